@@ -1,0 +1,396 @@
+//! Observations (RULES §5), written into caller-provided buffers so batched code never
+//! allocates.
+//!
+//! # Image `[g, g+1, F]`, F = 2C + 8 (row-major: rows, then columns, then channels)
+//!
+//! Columns `0..g` are the board; column `g` holds one row per hint slot.
+//!
+//! | channel | board cell | hint column, row h |
+//! |---|---|---|
+//! | `0..C` known colour one-hot | colour of the card here, if this seat sees it | 0 |
+//! | `C..2C` hint colours multi-hot | colours of the hint on the card here | colours of slot h once face up |
+//! | `2C` row | r / (g−1), every cell | 0 |
+//! | `2C+1` column | c / (g−1), every cell | 0 |
+//! | `2C+2` present | a card is here | slot h is still face down |
+//! | `2C+3` hinted | the card here carries a hint | slot h is placed |
+//! | `2C+4` observed this turn | the acting seat observed this card this turn | 0 |
+//! | `2C+5` card id | (id+1) / Y | 0 |
+//! | `2C+6` my turn | 1 if this seat acts, on every pixel | same |
+//! | `2C+7` substep | substep / 3, on every pixel | same |
+//!
+//! # Graph
+//! Adjacency `[Y, Y]` (1 where two cards are 4-neighbours) and node features `[Y+H, F]` with
+//! the same channels: card node k carries the board-cell channels of its cell; hint node h
+//! carries its colours once face up, "present" while face down, "hinted" once placed, and —
+//! once placed — the row, column and id channels of the card under it.
+//!
+//! # Public / private split (for OBL)
+//! *Public* is the full encoding with the known-colour channels zeroed; *private* is the
+//! known-colour channels alone: `[g, g+1, C]` for the image, `[Y, C]` for the graph.
+//!
+//! # Ground truth
+//! `[Y]`: the true colour index of every card id (for belief models and probes only).
+//!
+//! # Element types
+//! `f32` buffers get the scaled values above. `u8` buffers get the unscaled integers (row,
+//! column, id+1, substep, 0/1), so `f32 = u8 / scale` with [`ImageChannels::scales`].
+
+use crate::config::Config;
+use crate::game::Game;
+use crate::types::{cards_in, Seat};
+
+/// An element type an observation or mask can be written in.
+pub trait Scalar: Copy + PartialEq + std::fmt::Debug + Send + Sync + 'static {
+    const ZERO: Self;
+    const ONE: Self;
+    /// The value `num / den` (`f32`), or the integer `num` (`u8`).
+    fn ratio(num: u32, den: u32) -> Self;
+    /// The `num` this value was written from with denominator `den` (inverse of `ratio`).
+    fn numerator(self, den: u32) -> u32;
+}
+
+impl Scalar for f32 {
+    const ZERO: f32 = 0.0;
+    const ONE: f32 = 1.0;
+    #[inline(always)]
+    fn ratio(num: u32, den: u32) -> f32 {
+        if den == 0 {
+            0.0
+        } else {
+            num as f32 / den as f32
+        }
+    }
+    #[inline(always)]
+    fn numerator(self, den: u32) -> u32 {
+        (self * den as f32).round() as u32
+    }
+}
+
+impl Scalar for u8 {
+    const ZERO: u8 = 0;
+    const ONE: u8 = 1;
+    #[inline(always)]
+    fn ratio(num: u32, _den: u32) -> u8 {
+        num as u8
+    }
+    #[inline(always)]
+    fn numerator(self, _den: u32) -> u32 {
+        self as u32
+    }
+}
+
+/// Channel offsets of the image and graph encodings of one configuration.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ImageChannels {
+    pub known: usize,
+    pub hint: usize,
+    pub row: usize,
+    pub col: usize,
+    pub present: usize,
+    pub hinted: usize,
+    pub observed: usize,
+    pub id: usize,
+    pub my_turn: usize,
+    pub substep: usize,
+    /// F, channels per pixel (or features per graph node).
+    pub len: usize,
+}
+
+impl ImageChannels {
+    pub fn new(colours: usize) -> ImageChannels {
+        let c = colours;
+        ImageChannels {
+            known: 0,
+            hint: c,
+            row: 2 * c,
+            col: 2 * c + 1,
+            present: 2 * c + 2,
+            hinted: 2 * c + 3,
+            observed: 2 * c + 4,
+            id: 2 * c + 5,
+            my_turn: 2 * c + 6,
+            substep: 2 * c + 7,
+            len: 2 * c + 8,
+        }
+    }
+
+    /// Per channel, the divisor that turns a `u8` observation into the `f32` one.
+    pub fn scales(&self, config: &Config) -> Vec<u32> {
+        let mut s = vec![1; self.len];
+        s[self.row] = config.grid() as u32 - 1;
+        s[self.col] = config.grid() as u32 - 1;
+        s[self.id] = config.cards() as u32;
+        s[self.substep] = 3;
+        s
+    }
+
+    /// Human-readable channel names, for docs and debugging.
+    pub fn names(&self) -> Vec<String> {
+        let c = self.hint - self.known;
+        let mut n: Vec<String> = (0..c).map(|i| format!("known_colour_{i}")).collect();
+        n.extend((0..c).map(|i| format!("hint_colour_{i}")));
+        n.extend(
+            [
+                "row",
+                "col",
+                "present",
+                "hinted",
+                "observed_this_turn",
+                "card_id",
+                "my_turn",
+                "substep",
+            ]
+            .map(String::from),
+        );
+        n
+    }
+}
+
+/// Which part of an observation to write (RULES §5, item 3).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Part {
+    /// Everything the seat knows.
+    Full,
+    /// Everything but the seat's private colour knowledge (known-colour channels zero).
+    Public,
+    /// The private colour knowledge alone (C channels).
+    Private,
+}
+
+/// A buffer of the wrong length.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{what} buffer has length {got}, expected {expected} ({shape})")]
+pub struct BufferError {
+    pub what: &'static str,
+    pub expected: usize,
+    pub got: usize,
+    pub shape: String,
+}
+
+fn check_len(what: &'static str, got: usize, shape: &[usize]) -> Result<(), BufferError> {
+    let expected = shape.iter().product();
+    if got == expected {
+        Ok(())
+    } else {
+        Err(BufferError {
+            what,
+            expected,
+            got,
+            shape: format!("{shape:?}"),
+        })
+    }
+}
+
+impl Config {
+    pub fn image_channels(&self) -> ImageChannels {
+        ImageChannels::new(self.colours())
+    }
+    /// Shape of the image observation of one seat: `[g, g+1, F]`, or `[g, g+1, C]` for the
+    /// private part.
+    pub fn image_shape(&self, part: Part) -> [usize; 3] {
+        let f = match part {
+            Part::Private => self.colours(),
+            _ => self.image_channels().len,
+        };
+        [self.grid(), self.grid() + 1, f]
+    }
+    /// Shape of the graph node features: `[Y+H, F]`, or `[Y, C]` for the private part.
+    pub fn node_shape(&self, part: Part) -> [usize; 2] {
+        match part {
+            Part::Private => [self.cards(), self.colours()],
+            _ => [self.cards() + self.hints(), self.image_channels().len],
+        }
+    }
+    /// Shape of the graph adjacency: `[Y, Y]`.
+    pub fn adjacency_shape(&self) -> [usize; 2] {
+        [self.cards(), self.cards()]
+    }
+}
+
+impl Game {
+    /// Write `seat`'s image observation (see the module docs for the layout).
+    pub fn write_image<T: Scalar>(
+        &self,
+        seat: Seat,
+        part: Part,
+        out: &mut [T],
+    ) -> Result<(), BufferError> {
+        let config = &self.config;
+        check_len("image observation", out.len(), &config.image_shape(part))?;
+        let ch = config.image_channels();
+        let g = config.grid();
+        let width = g + 1;
+        let y = config.cards() as u32;
+        out.fill(T::ZERO);
+        let known = self.known_cards(seat);
+        if part == Part::Private {
+            let c = config.colours();
+            for card in cards_in(known) {
+                let cell = self.cell_of[card.index()] as usize;
+                let (r, col) = (cell / g, cell % g);
+                out[(r * width + col) * c + self.colour_of[card.index()].index()] = T::ONE;
+            }
+            return Ok(());
+        }
+        let f = ch.len;
+        let my_turn = if seat.0 == self.current && !self.is_over() {
+            T::ONE
+        } else {
+            T::ZERO
+        };
+        let substep = T::ratio(self.substep as u32, 3);
+        let scale = g as u32 - 1;
+        for r in 0..g {
+            let row = T::ratio(r as u32, scale);
+            for c in 0..width {
+                let px = &mut out[(r * width + c) * f..][..f];
+                if c < g {
+                    px[ch.row] = row;
+                    px[ch.col] = T::ratio(c as u32, scale);
+                }
+                px[ch.my_turn] = my_turn;
+                px[ch.substep] = substep;
+            }
+        }
+        let with_known = part == Part::Full;
+        for k in 0..config.cards() {
+            let bit = 1u32 << k;
+            let cell = self.cell_of[k] as usize;
+            let (r, c) = (cell / g, cell % g);
+            let px = &mut out[(r * width + c) * f..][..f];
+            px[ch.present] = T::ONE;
+            px[ch.id] = T::ratio(k as u32 + 1, y);
+            if with_known && known & bit != 0 {
+                px[ch.known + self.colour_of[k].index()] = T::ONE;
+            }
+            if self.hinted & bit != 0 {
+                px[ch.hinted] = T::ONE;
+                let set = self.hint_colours[self.card_hint[k] as usize];
+                for colour in set.colours() {
+                    px[ch.hint + colour.index()] = T::ONE;
+                }
+            }
+            if self.turn_observed & bit != 0 {
+                px[ch.observed] = T::ONE;
+            }
+        }
+        for slot in 0..config.hints() {
+            let px = &mut out[(slot * width + g) * f..][..f];
+            if slot < self.revealed as usize {
+                for colour in self.hint_colours[slot].colours() {
+                    px[ch.hint + colour.index()] = T::ONE;
+                }
+            } else {
+                px[ch.present] = T::ONE;
+            }
+            if self.hint_card[slot] != u8::MAX {
+                px[ch.hinted] = T::ONE;
+            }
+        }
+        Ok(())
+    }
+
+    /// Write the graph adjacency `[Y, Y]`: 1 where two cards are 4-neighbours (public).
+    pub fn write_adjacency<T: Scalar>(&self, out: &mut [T]) -> Result<(), BufferError> {
+        let config = &self.config;
+        check_len("adjacency", out.len(), &config.adjacency_shape())?;
+        let y = config.cards();
+        let geo = config.geometry();
+        let mut card_at = [u8::MAX; 128];
+        for k in 0..y {
+            card_at[self.cell_of[k] as usize] = k as u8;
+        }
+        out.fill(T::ZERO);
+        for k in 0..y {
+            let own = crate::bitboard::Bitboard::from_index(self.cell_of[k] as usize);
+            for cell in (geo.neighbours(own) & self.occupied).iter() {
+                out[k * y + card_at[cell] as usize] = T::ONE;
+            }
+        }
+        Ok(())
+    }
+
+    /// Write `seat`'s graph node features (see the module docs).
+    pub fn write_nodes<T: Scalar>(
+        &self,
+        seat: Seat,
+        part: Part,
+        out: &mut [T],
+    ) -> Result<(), BufferError> {
+        let config = &self.config;
+        check_len("graph node features", out.len(), &config.node_shape(part))?;
+        let known = self.known_cards(seat);
+        out.fill(T::ZERO);
+        if part == Part::Private {
+            let c = config.colours();
+            for card in cards_in(known) {
+                out[card.index() * c + self.colour_of[card.index()].index()] = T::ONE;
+            }
+            return Ok(());
+        }
+        let ch = config.image_channels();
+        let f = ch.len;
+        let g = config.grid();
+        let y = config.cards();
+        let scale = g as u32 - 1;
+        let my_turn = if seat.0 == self.current && !self.is_over() {
+            T::ONE
+        } else {
+            T::ZERO
+        };
+        let substep = T::ratio(self.substep as u32, 3);
+        let place = |px: &mut [T], card: usize| {
+            let cell = self.cell_of[card] as usize;
+            px[ch.row] = T::ratio((cell / g) as u32, scale);
+            px[ch.col] = T::ratio((cell % g) as u32, scale);
+            px[ch.id] = T::ratio(card as u32 + 1, y as u32);
+        };
+        for k in 0..y {
+            let bit = 1u32 << k;
+            let px = &mut out[k * f..][..f];
+            place(px, k);
+            px[ch.present] = T::ONE;
+            if part == Part::Full && known & bit != 0 {
+                px[ch.known + self.colour_of[k].index()] = T::ONE;
+            }
+            if self.hinted & bit != 0 {
+                px[ch.hinted] = T::ONE;
+                for colour in self.hint_colours[self.card_hint[k] as usize].colours() {
+                    px[ch.hint + colour.index()] = T::ONE;
+                }
+            }
+            if self.turn_observed & bit != 0 {
+                px[ch.observed] = T::ONE;
+            }
+            px[ch.my_turn] = my_turn;
+            px[ch.substep] = substep;
+        }
+        for slot in 0..config.hints() {
+            let px = &mut out[(y + slot) * f..][..f];
+            if slot < self.revealed as usize {
+                for colour in self.hint_colours[slot].colours() {
+                    px[ch.hint + colour.index()] = T::ONE;
+                }
+            } else {
+                px[ch.present] = T::ONE;
+            }
+            let card = self.hint_card[slot];
+            if card != u8::MAX {
+                px[ch.hinted] = T::ONE;
+                place(px, card as usize);
+            }
+            px[ch.my_turn] = my_turn;
+            px[ch.substep] = substep;
+        }
+        Ok(())
+    }
+
+    /// Write the true colour index of every card id (`[Y]`). Hidden information.
+    pub fn write_ground_truth<T: Scalar>(&self, out: &mut [T]) -> Result<(), BufferError> {
+        check_len("ground truth", out.len(), &[self.config.cards()])?;
+        for (k, v) in out.iter_mut().enumerate() {
+            *v = T::ratio(self.colour_of[k].0 as u32, 1);
+        }
+        Ok(())
+    }
+}
