@@ -119,6 +119,25 @@ pub enum ActionError {
     NoSuchSeat { seat: Seat, players: usize },
 }
 
+/// Why a hand-made layout was rejected.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum LayoutError {
+    #[error(transparent)]
+    Deal(#[from] DealError),
+    #[error("the layout places {got} cards but the config has {expected}")]
+    CardCount { expected: usize, got: usize },
+    #[error("card {card} is placed on {cell}, outside the grid")]
+    OffGrid { card: usize, cell: Cell },
+    #[error("cards {other} and {card} are both placed on {cell}")]
+    Overlap {
+        card: usize,
+        other: usize,
+        cell: Cell,
+    },
+    #[error("the cards do not form one 4-connected group")]
+    NotConnected,
+}
+
 /// What one environment step returns.
 #[derive(Clone, Copy, PartialEq, Eq, Debug, Default)]
 pub struct Step {
@@ -169,6 +188,42 @@ impl Game {
     pub fn from_deal(config: Config, deal: &Deal) -> Result<Game, DealError> {
         deal.validate(&config)?;
         Ok(Game::from_valid_deal(config, deal))
+    }
+
+    /// A new game from an explicit deal with the cards on explicit cells instead of the
+    /// start square: for hand-made scenarios and tests. The cells must be distinct, on the
+    /// grid and form one 4-connected group.
+    pub fn from_layout(config: Config, deal: &Deal, cells: &[Cell]) -> Result<Game, LayoutError> {
+        let mut game = Game::from_deal(config, deal)?;
+        if cells.len() != config.cards() {
+            return Err(LayoutError::CardCount {
+                expected: config.cards(),
+                got: cells.len(),
+            });
+        }
+        let geo = *config.geometry();
+        let mut occupied = Bitboard::EMPTY;
+        for (k, &cell) in cells.iter().enumerate() {
+            if !geo.contains(cell) {
+                return Err(LayoutError::OffGrid { card: k, cell });
+            }
+            let index = geo.index(cell);
+            if occupied.contains(index) {
+                let other = cells.iter().position(|&c| c == cell).unwrap_or(k);
+                return Err(LayoutError::Overlap {
+                    card: k,
+                    other,
+                    cell,
+                });
+            }
+            occupied |= Bitboard::from_index(index);
+            game.cell_of[k] = index as u8;
+        }
+        if !geo.is_connected(occupied) {
+            return Err(LayoutError::NotConnected);
+        }
+        game.occupied = occupied;
+        Ok(game)
     }
 
     fn from_valid_deal(config: Config, deal: &Deal) -> Game {

@@ -91,7 +91,7 @@ pub use bitboard::{Bitboard, Cell, Geometry, MAX_GRID};
 pub use config::{Config, ConfigError, ConfigSpec, Memory, Preset};
 pub use deal::{Deal, DealError};
 pub use episode::{DealSource, EpisodeRecord, RecordedGame, ReplayError};
-pub use game::{ActionError, Game, Illegal, Phase, Step, Substep};
+pub use game::{ActionError, Game, Illegal, LayoutError, Phase, Step, Substep};
 pub use metrics::{Metrics, MetricsAccumulator};
 pub use observation::{BufferError, ImageChannels, Part, Scalar};
 pub use render::{render_seat, render_truth};
