@@ -1,1 +1,43 @@
-fn main() {}
+//! `yokai`: the command-line front end of the Yōkai Learning Environment.
+
+mod random;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(
+    name = "yokai",
+    version,
+    about = "The Yōkai Learning Environment: a benchmark for zero-shot coordination",
+    long_about = "The Yōkai Learning Environment: the cooperative card game Yōkai as a fast, exact \
+                  engine for multi-agent RL research.\n\nConfigs are short names such as \
+                  9c-2p-perfect, 16c-3p-imperfect (cards-players-memory) or a path to a TOML file."
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Play games with uniformly random legal actions and print the paper's metrics.
+    Random(random::Args),
+    /// Show one game's deal and the board as text (ground truth).
+    Show(random::ShowArgs),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Random(args) => random::run(args),
+        Command::Show(args) => random::show(args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(message) => {
+            eprintln!("error: {message}");
+            ExitCode::FAILURE
+        }
+    }
+}

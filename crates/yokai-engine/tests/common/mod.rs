@@ -1,6 +1,6 @@
 //! Test support: slow, obviously-correct reference implementations that the fast engine is
 //! checked against, and a seeded random player.
-#![allow(dead_code)]
+#![allow(dead_code, clippy::needless_range_loop)]
 
 use rand_chacha::rand_core::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
