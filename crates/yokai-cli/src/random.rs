@@ -3,7 +3,7 @@
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 use yokai_agents::{Policy, RandomPolicy};
-use yokai_engine::{Config, Game, Metrics, MetricsAccumulator, Outcome};
+use yokai_engine::{derive_seed, Config, Game, Metrics, MetricsAccumulator, Outcome};
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -31,16 +31,6 @@ pub struct ShowArgs {
     config: String,
     #[arg(short, long, default_value_t = 0)]
     seed: u64,
-}
-
-/// SplitMix64: decorrelates consecutive game indices into independent seeds.
-pub fn derive_seed(base: u64, index: u64) -> u64 {
-    let mut z = base
-        .wrapping_mul(0x9E37_79B9_7F4A_7C15)
-        .wrapping_add(index.wrapping_add(1).wrapping_mul(0xD1B5_4A32_D192_ED03));
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^ (z >> 31)
 }
 
 fn play_one(config: Config, seed: u64, never_end: bool) -> Outcome {

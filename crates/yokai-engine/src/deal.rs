@@ -51,6 +51,18 @@ pub enum DealError {
     DuplicateHint { first: usize, second: usize },
 }
 
+/// A seed for stream `stream` of a run seeded with `base` (SplitMix64 finaliser): games,
+/// environments and episodes get independent, reproducible seeds that do not depend on the
+/// order in which threads reach them.
+pub fn derive_seed(base: u64, stream: u64) -> u64 {
+    let mut z = base
+        .wrapping_mul(0x9E37_79B9_7F4A_7C15)
+        .wrapping_add(stream.wrapping_add(1).wrapping_mul(0xD1B5_4A32_D192_ED03));
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
 /// Uniform integer in `0..n` (`n ≥ 1`), unbiased (Lemire 2019).
 #[inline]
 fn below(rng: &mut ChaCha8Rng, n: u32) -> u32 {

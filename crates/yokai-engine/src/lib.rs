@@ -89,7 +89,7 @@ pub mod view;
 pub use action::{Action, ActionLayout, IndexOutOfRange};
 pub use bitboard::{Bitboard, Cell, Geometry, MAX_GRID};
 pub use config::{Config, ConfigError, ConfigSpec, Memory, Preset};
-pub use deal::{Deal, DealError};
+pub use deal::{derive_seed, Deal, DealError};
 pub use episode::{DealSource, EpisodeRecord, RecordedGame, ReplayError};
 pub use game::{ActionError, Game, Illegal, LayoutError, Phase, Step, Substep};
 pub use metrics::{Metrics, MetricsAccumulator};

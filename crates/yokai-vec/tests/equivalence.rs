@@ -1,0 +1,208 @@
+//! The batched environment equals N independent single games with the same seeds: every
+//! buffer, every step, across auto-resets, for 1 and 2 threads.
+
+use yokai_engine::{Action, Config, Game, Part, Scalar, Seat};
+use yokai_vec::{episode_seed, Encoding, VecEnv, VecEnvOptions, VecError};
+
+/// Deterministic "random" choice among the legal actions of the acting seat.
+fn choose(game: &Game, step: usize, env: usize) -> Action {
+    let legal = game.legal_actions(game.current_seat());
+    legal[(step * 7919 + env * 104_729) % legal.len()]
+}
+
+fn run<T: Scalar + Default>(config: Config, encoding: Encoding, threads: usize, steps: usize) {
+    let n = 13; // not a multiple of the chunk size
+    let options = VecEnvOptions {
+        encoding,
+        threads: Some(threads),
+        chunk: 4,
+        ..VecEnvOptions::new(n, 99)
+    };
+    let mut env = VecEnv::<T>::new(config, options).unwrap();
+    let p = config.players();
+    let n_a = config.num_actions();
+    let obs_len: usize = encoding.shape(&config).iter().product();
+    let mut games: Vec<Game> = (0..n)
+        .map(|i| Game::new(config, episode_seed(99, i, 0)))
+        .collect();
+    let mut episodes = vec![0u64; n];
+    let mut resets = 0;
+    for step in 0..steps {
+        // Compare every buffer with the single games.
+        for (i, game) in games.iter().enumerate() {
+            assert_eq!(env.acting_seats()[i], game.current_seat().0);
+            for s in 0..p {
+                let seat = Seat(s as u8);
+                let mut mask = vec![0u8; n_a];
+                game.write_legal_mask(seat, &mut mask);
+                assert_eq!(
+                    &env.legal_masks()[(i * p + s) * n_a..][..n_a],
+                    &mask[..],
+                    "mask env {i} seat {s} step {step}"
+                );
+                let mut o = vec![T::ZERO; obs_len];
+                match encoding {
+                    Encoding::Image(part) => game.write_image(seat, part, &mut o).unwrap(),
+                    Encoding::Graph(part) => game.write_nodes(seat, part, &mut o).unwrap(),
+                    Encoding::None => {}
+                }
+                assert!(
+                    env.observations()[(i * p + s) * obs_len..][..obs_len] == o[..],
+                    "obs env {i} seat {s} step {step}"
+                );
+            }
+            if let Encoding::Graph(_) = encoding {
+                let y = config.cards();
+                let mut a = vec![T::ZERO; y * y];
+                game.write_adjacency(&mut a).unwrap();
+                assert!(env.adjacency()[i * y * y..][..y * y] == a[..]);
+            }
+        }
+        let actions: Vec<u32> = games
+            .iter()
+            .enumerate()
+            .map(|(i, g)| config.encode(choose(g, step, i)) as u32)
+            .collect();
+        env.step(&actions).unwrap();
+        for (i, game) in games.iter_mut().enumerate() {
+            let result = game.apply_index(actions[i] as usize).unwrap();
+            assert_eq!(env.rewards()[i], result.reward as f32);
+            assert_eq!(env.shaping()[i], result.shaping as f32);
+            assert_eq!(env.dones()[i], result.done as u8);
+            if result.done {
+                assert_eq!(env.outcomes()[i], game.outcome());
+                episodes[i] += 1;
+                resets += 1;
+                *game = Game::new(config, episode_seed(99, i, episodes[i]));
+            } else {
+                assert_eq!(env.outcomes()[i], None);
+            }
+            assert_eq!(env.episodes(i), episodes[i]);
+            assert!(env.game(i) == game);
+        }
+    }
+    assert!(resets >= n, "the run should cross auto-resets ({resets})");
+}
+
+#[test]
+fn batched_equals_single_games_image_f32_on_one_and_two_threads() {
+    for threads in [1, 2] {
+        run::<f32>(
+            Config::from_name("9c-2p").unwrap(),
+            Encoding::Image(Part::Full),
+            threads,
+            120,
+        );
+    }
+}
+
+#[test]
+fn batched_equals_single_games_image_u8_more_players_and_16c() {
+    for threads in [1, 2] {
+        run::<u8>(
+            Config::from_name("9c-3p-imperfect").unwrap(),
+            Encoding::Image(Part::Full),
+            threads,
+            100,
+        );
+        run::<u8>(
+            Config::from_name("16c-2p").unwrap(),
+            Encoding::Image(Part::Public),
+            threads,
+            100,
+        );
+    }
+}
+
+#[test]
+fn batched_equals_single_games_graph_and_none() {
+    for threads in [1, 2] {
+        run::<f32>(
+            Config::from_name("9c-4p").unwrap(),
+            Encoding::Graph(Part::Full),
+            threads,
+            80,
+        );
+        run::<u8>(
+            Config::from_name("9c-2p").unwrap(),
+            Encoding::None,
+            threads,
+            80,
+        );
+    }
+}
+
+#[test]
+fn illegal_actions_are_errors_that_change_nothing() {
+    let config = Config::from_name("9c-2p").unwrap();
+    let mut env = VecEnv::<f32>::new(config, VecEnvOptions::new(4, 1)).unwrap();
+    let before_obs = env.observations().to_vec();
+    // env 2 tries to MOVE at substep 0.
+    let mv = config.encode(Action::Move(
+        yokai_engine::Card(0),
+        yokai_engine::Cell::new(0, 0),
+    )) as u32;
+    let err = env.step(&[1, 1, mv, 1]).unwrap_err();
+    assert!(matches!(err, VecError::Action { env: 2, .. }));
+    assert!(
+        err.to_string().starts_with(
+            "env 2: seat 0 cannot play `move card 0 to r0c0`: substep 0 allows only OBSERVE or END"
+        ),
+        "{err}"
+    );
+    assert_eq!(env.observations(), &before_obs[..]);
+    assert_eq!(env.game(0).steps(), 0);
+    let err = env.step(&[1, 1, 5000, 1]).unwrap_err();
+    assert!(
+        err.to_string()
+            .contains("action index 5000 is out of range"),
+        "{err}"
+    );
+    assert!(matches!(
+        env.step(&[1, 1]).unwrap_err(),
+        VecError::ActionCount {
+            expected: 4,
+            got: 2,
+            ..
+        }
+    ));
+    // Joint actions: seat 1 must submit NOOP.
+    let err = env.step_joint(&[2, 0, 2, 0, 2, 3, 2, 0]).unwrap_err();
+    assert!(
+        err.to_string()
+            .contains("env 2: seat 1 cannot play `observe card 1`: it is seat 0's turn"),
+        "{err}"
+    );
+    env.step_joint(&[2, 0, 2, 0, 2, 0, 1, 0]).unwrap();
+    assert_eq!(env.dones(), &[0, 0, 0, 1]);
+    assert!(env.outcomes()[3].unwrap().early_end);
+    assert_eq!(env.episodes(3), 1);
+}
+
+#[test]
+fn sampled_actions_are_legal_and_deterministic() {
+    let config = Config::from_name("16c-2p").unwrap();
+    let mut env = VecEnv::<u8>::new(config, VecEnvOptions::new(50, 5)).unwrap();
+    let mut a = vec![0u32; 50];
+    let mut b = vec![0u32; 50];
+    for step in 0..200 {
+        env.sample_legal(step, &mut a);
+        env.sample_legal(step, &mut b);
+        assert_eq!(a, b);
+        env.step(&a).unwrap();
+    }
+}
+
+#[test]
+fn encodings_parse() {
+    assert_eq!(
+        Encoding::parse("image").unwrap(),
+        Encoding::Image(Part::Full)
+    );
+    assert_eq!(
+        Encoding::parse("graph-private").unwrap(),
+        Encoding::Graph(Part::Private)
+    );
+    assert!(Encoding::parse("image-secret").is_err());
+    assert!(Encoding::parse("pixels").is_err());
+}
