@@ -1,5 +1,6 @@
 //! `yokai`: the command-line front end of the Yōkai Learning Environment.
 
+mod bench;
 mod random;
 
 use clap::{Parser, Subcommand};
@@ -23,6 +24,8 @@ struct Cli {
 enum Command {
     /// Play games with uniformly random legal actions and print the paper's metrics.
     Random(random::Args),
+    /// Measure environment steps per second (random legal actions, all seats observed).
+    Bench(bench::Args),
     /// Show one game's deal and the board as text (ground truth).
     Show(random::ShowArgs),
 }
@@ -32,6 +35,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Random(args) => random::run(args),
         Command::Show(args) => random::show(args),
+        Command::Bench(args) => bench::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -93,7 +93,7 @@ pub use deal::{derive_seed, Deal, DealError};
 pub use episode::{DealSource, EpisodeRecord, RecordedGame, ReplayError};
 pub use game::{ActionError, Game, Illegal, LayoutError, Phase, Step, Substep};
 pub use metrics::{Metrics, MetricsAccumulator};
-pub use observation::{BufferError, ImageChannels, Part, Scalar};
+pub use observation::{BufferError, ImageChannels, ImageEncoder, Part, Scalar};
 pub use render::{render_seat, render_truth};
 pub use scoring::Outcome;
 pub use symmetry::{Symmetry, SymmetryError};

@@ -34,7 +34,9 @@
 //! observations and masks of every seat.
 
 use rayon::prelude::*;
-use yokai_engine::{derive_seed, ActionError, Config, Game, Outcome, Part, Scalar, Seat};
+use yokai_engine::{
+    derive_seed, ActionError, Config, Game, ImageEncoder, Outcome, Part, Scalar, Seat,
+};
 
 /// Which observation the environment writes for every seat.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -154,6 +156,7 @@ pub struct VecEnv<T: Scalar> {
     outcomes: Vec<Option<Outcome>>,
     /// The acting seats' actions of a joint step, gathered before applying.
     scratch: Vec<u32>,
+    image: ImageEncoder<T>,
     pool: rayon::ThreadPool,
 }
 
@@ -208,6 +211,7 @@ impl<T: Scalar + Default> VecEnv<T> {
             acting: vec![0; n],
             outcomes: vec![None; n],
             scratch: vec![0; n],
+            image: ImageEncoder::new(&config),
             pool,
         };
         env.reset();
@@ -242,6 +246,7 @@ impl<T: Scalar + Default> VecEnv<T> {
         let sizes = Self::sizes(&self.config, self.options.encoding);
         let encoding = self.options.encoding;
         let c = self.options.chunk;
+        let image = &self.image;
         let (slots, obs, adj, masks, acting) = (
             &self.slots,
             &mut self.observations,
@@ -258,7 +263,9 @@ impl<T: Scalar + Default> VecEnv<T> {
                 .zip(acting.par_chunks_mut(c))
                 .for_each(|((((slots, obs), adj), masks), acting)| {
                     for (j, slot) in slots.iter().enumerate() {
-                        write_env(&slot.game, encoding, sizes, j, obs, adj, masks, acting);
+                        write_env(
+                            &slot.game, image, encoding, sizes, j, obs, adj, masks, acting,
+                        );
                     }
                 });
         });
@@ -336,6 +343,7 @@ impl<T: Scalar + Default> VecEnv<T> {
         let encoding = self.options.encoding;
         let sizes = Self::sizes(&config, encoding);
         let c = self.options.chunk;
+        let image = &self.image;
         let (slots, obs, adj, masks, rewards, shaping, dones, acting, outcomes) = (
             &mut self.slots,
             &mut self.observations,
@@ -390,7 +398,9 @@ impl<T: Scalar + Default> VecEnv<T> {
                                 slot.game =
                                     Game::new(config, episode_seed(seed, env, slot.episode));
                             }
-                            write_env(&slot.game, encoding, sizes, j, obs, adj, masks, acting);
+                            write_env(
+                                &slot.game, image, encoding, sizes, j, obs, adj, masks, acting,
+                            );
                         }
                     },
                 );
@@ -466,20 +476,42 @@ impl<T: Scalar + Default> VecEnv<T> {
                     let mask = &masks[(env * p + acting[env] as usize) * n_a..][..n_a];
                     let count: u32 = mask.iter().map(|&m| m as u32).sum();
                     let r = derive_seed(seed, env as u64);
-                    let mut k = ((r as u128 * count as u128) >> 64) as u32;
-                    for (i, &m) in mask.iter().enumerate() {
-                        if m == 1 {
-                            if k == 0 {
-                                *o = i as u32;
-                                break;
-                            }
-                            k -= 1;
-                        }
-                    }
+                    let k = ((r as u128 * count as u128) >> 64) as u32;
+                    *o = nth_set(mask, k) as u32;
                 }
             });
         });
     }
+}
+
+/// Index of the `k`-th (0-based) nonzero byte of a 0/1 mask; eight bytes at a time.
+#[inline]
+fn nth_set(mask: &[u8], mut k: u32) -> usize {
+    const LOW: u64 = 0x0101_0101_0101_0101;
+    let mut words = mask.chunks_exact(8);
+    let mut base = 0;
+    for w in &mut words {
+        let bits = u64::from_le_bytes(w.try_into().expect("8 bytes")) & LOW;
+        let ones = bits.count_ones();
+        if k < ones {
+            let mut b = bits;
+            for _ in 0..k {
+                b &= b - 1;
+            }
+            return base + (b.trailing_zeros() / 8) as usize;
+        }
+        k -= ones;
+        base += 8;
+    }
+    for (i, &m) in words.remainder().iter().enumerate() {
+        if m == 1 {
+            if k == 0 {
+                return base + i;
+            }
+            k -= 1;
+        }
+    }
+    unreachable!("k is below the number of set bytes")
 }
 
 /// Write observations, adjacency, masks and acting seat of game `j` of a chunk.
@@ -487,6 +519,7 @@ impl<T: Scalar + Default> VecEnv<T> {
 #[inline]
 fn write_env<T: Scalar>(
     game: &Game,
+    image: &ImageEncoder<T>,
     encoding: Encoding,
     sizes: Sizes,
     j: usize,
@@ -500,7 +533,7 @@ fn write_env<T: Scalar>(
         let seat = Seat(s as u8);
         let o = &mut obs[(j * sizes.players + s) * sizes.obs.max(1)..][..sizes.obs];
         let written = match encoding {
-            Encoding::Image(part) => game.write_image(seat, part, o),
+            Encoding::Image(part) => image.write(game, seat, part, o),
             Encoding::Graph(part) => game.write_nodes(seat, part, o),
             Encoding::None => Ok(()),
         };

@@ -1,0 +1,140 @@
+//! `yokai bench`: environment steps per second with random legal actions, beside the
+//! paper's H100 figures.
+
+use serde_json::json;
+use std::time::{Duration, Instant};
+use yokai_engine::{Config, Part, Scalar};
+use yokai_vec::{Encoding, VecEnv, VecEnvOptions};
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// Worker threads (default: one per core).
+    #[arg(long)]
+    threads: Option<usize>,
+    /// Measured seconds per row (after a short warm-up).
+    #[arg(long, default_value_t = 2.0)]
+    seconds: f64,
+    /// Configs to measure (comma-separated short names).
+    #[arg(
+        long,
+        default_value = "9c-2p-perfect,16c-2p-perfect",
+        value_delimiter = ','
+    )]
+    configs: Vec<String>,
+    /// Numbers of parallel games (comma-separated).
+    #[arg(long, default_value = "512,1024,2048", value_delimiter = ',')]
+    envs: Vec<usize>,
+    /// Observation dtypes to measure: f32, u8 (comma-separated).
+    #[arg(long, default_value = "f32,u8", value_delimiter = ',')]
+    dtypes: Vec<String>,
+    /// Observation encoding written for every seat each step.
+    #[arg(long, default_value = "image")]
+    encoding: String,
+    /// Games per work item handed to a thread.
+    #[arg(long, default_value_t = 32)]
+    chunk: usize,
+    /// Print one JSON object per row instead of a table.
+    #[arg(long)]
+    json: bool,
+}
+
+/// The paper's JAX environment on an NVIDIA H100, random legal actions (TRAINING.md).
+fn paper_h100(config: &Config, envs: usize) -> Option<f64> {
+    let name = config.short_name()?;
+    let base = name
+        .strip_suffix("-perfect")
+        .or(name.strip_suffix("-imperfect"))?;
+    match (base, envs) {
+        ("9c-2p", 512) => Some(139_000.0),
+        ("9c-2p", 1024) => Some(275_000.0),
+        ("9c-2p", 2048) => Some(559_251.0),
+        ("16c-2p", 512) => Some(136_000.0),
+        ("16c-2p", 1024) => Some(145_000.0),
+        ("16c-2p", 2048) => Some(148_269.0),
+        _ => None,
+    }
+}
+
+/// Steps per second (one step = one substep of one game) of random legal play.
+fn measure<T: Scalar + Default>(
+    config: Config,
+    options: VecEnvOptions,
+    seconds: f64,
+) -> Result<f64, String> {
+    let mut env = VecEnv::<T>::new(config, options).map_err(|e| e.to_string())?;
+    let n = options.num_envs;
+    let mut actions = vec![0u32; n];
+    let mut round = 0u64;
+    let mut run_for = |limit: Duration| -> Result<(u64, Duration), String> {
+        let start = Instant::now();
+        let mut iterations = 0u64;
+        while start.elapsed() < limit {
+            for _ in 0..8 {
+                env.sample_legal(round, &mut actions);
+                env.step(&actions).map_err(|e| e.to_string())?;
+                round += 1;
+                iterations += 1;
+            }
+        }
+        Ok((iterations, start.elapsed()))
+    };
+    run_for(Duration::from_secs_f64((seconds / 5.0).min(0.5)))?;
+    let (iterations, elapsed) = run_for(Duration::from_secs_f64(seconds))?;
+    Ok((iterations * n as u64) as f64 / elapsed.as_secs_f64())
+}
+
+pub fn run(args: Args) -> Result<(), String> {
+    if args.seconds <= 0.0 || !args.seconds.is_finite() {
+        return Err("--seconds must be positive".into());
+    }
+    let encoding = yokai_vec::Encoding::parse(&args.encoding).map_err(|e| e.to_string())?;
+    let threads = args
+        .threads
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    if !args.json {
+        println!(
+            "random legal actions, {} observations for every seat + legal masks, {threads} thread(s), {} s per row",
+            match encoding {
+                Encoding::Image(Part::Full) => "image".to_string(),
+                other => format!("{other:?}"),
+            },
+            args.seconds
+        );
+        println!("| config | games | dtype | steps/s | paper H100 | ratio |");
+        println!("|---|---|---|---|---|---|");
+    }
+    for name in &args.configs {
+        let config = Config::resolve(name).map_err(|e| e.to_string())?;
+        for &envs in &args.envs {
+            for dtype in &args.dtypes {
+                let options = VecEnvOptions {
+                    encoding,
+                    threads: Some(threads),
+                    chunk: args.chunk,
+                    ..VecEnvOptions::new(envs, 0)
+                };
+                let sps = match dtype.as_str() {
+                    "f32" => measure::<f32>(config, options, args.seconds)?,
+                    "u8" => measure::<u8>(config, options, args.seconds)?,
+                    other => return Err(format!("unknown dtype `{other}` (expected f32 or u8)")),
+                };
+                let paper = paper_h100(&config, envs);
+                if args.json {
+                    println!(
+                        "{}",
+                        json!({"config": config.to_string(), "envs": envs, "dtype": dtype, "threads": threads,
+                               "encoding": args.encoding, "steps_per_second": sps.round(),
+                               "paper_h100": paper, "ratio": paper.map(|p| sps / p)})
+                    );
+                } else {
+                    let (p, r) = match paper {
+                        Some(p) => (format!("{p:.0}"), format!("{:.1}×", sps / p)),
+                        None => ("–".into(), "–".into()),
+                    };
+                    println!("| {config} | {envs} | {dtype} | {sps:.0} | {p} | {r} |");
+                }
+            }
+        }
+    }
+    Ok(())
+}
