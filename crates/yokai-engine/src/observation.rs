@@ -270,21 +270,10 @@ impl<T: Scalar> ImageEncoder<T> {
         out: &mut [T],
     ) -> Result<(), BufferError> {
         debug_assert_eq!(game.config, self.config);
-        check_len(
-            "image observation",
-            out.len(),
-            &self.config.image_shape(part),
-        )?;
-        if part == Part::Private {
-            game.write_image_private(seat, out);
-            return Ok(());
-        }
-        let my_turn = (seat.0 == game.current && !game.is_over()) as usize;
-        out.copy_from_slice(
-            &self.backgrounds[(my_turn * 4 + game.substep as usize) * self.len..][..self.len],
-        );
-        game.write_image_pieces(seat, part, out);
-        Ok(())
+        game.write_image_over(seat, part, out, |my_turn, substep, out| {
+            let index = my_turn as usize * 4 + substep as usize;
+            out.copy_from_slice(&self.backgrounds[index * self.len..][..self.len]);
+        })
     }
 }
 
@@ -298,6 +287,21 @@ impl Game {
         part: Part,
         out: &mut [T],
     ) -> Result<(), BufferError> {
+        let config = self.config;
+        self.write_image_over(seat, part, out, |my_turn, substep, out| {
+            write_background(&config, my_turn, substep, out)
+        })
+    }
+
+    /// The one image writer: checks the buffer, lets `background(my_turn, substep, out)`
+    /// fill in what does not depend on the cards, then writes the card and hint pixels.
+    fn write_image_over<T: Scalar>(
+        &self,
+        seat: Seat,
+        part: Part,
+        out: &mut [T],
+        background: impl FnOnce(bool, u8, &mut [T]),
+    ) -> Result<(), BufferError> {
         check_len(
             "image observation",
             out.len(),
@@ -307,8 +311,7 @@ impl Game {
             self.write_image_private(seat, out);
             return Ok(());
         }
-        let my_turn = seat.0 == self.current && !self.is_over();
-        write_background(&self.config, my_turn, self.substep, out);
+        background(seat.0 == self.current && !self.is_over(), self.substep, out);
         self.write_image_pieces(seat, part, out);
         Ok(())
     }
