@@ -6,7 +6,7 @@
 //! not depend on how a `rand` version implements `shuffle`.
 
 use crate::config::Config;
-use crate::types::{Colour, ColourSet};
+use crate::types::{Colour, ColourSet, MAX_CARDS, MAX_HINTS};
 use rand_chacha::rand_core::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
@@ -162,37 +162,51 @@ impl Deal {
     /// A random deal (RULES §1): colours by a uniform permutation of the colour multiset;
     /// for each hint size a random subset of the possible colour sets, then the pile shuffled.
     pub fn from_seed(config: &Config, seed: u64) -> Deal {
-        let mut rng = ChaCha8Rng::seed_from_u64(seed);
-        let per = config.cards_per_colour();
-        let mut card_colours: Vec<Colour> = (0..config.cards())
-            .map(|i| Colour((i / per) as u8))
-            .collect();
-        shuffle(&mut rng, &mut card_colours);
-
-        let c = config.colours();
-        let mut hint_colours = Vec::with_capacity(config.hints());
-        for size in 1..=c {
-            let wanted = config.hints_of_size(size);
-            if wanted == 0 {
-                continue;
-            }
-            let mut candidates: Vec<ColourSet> = (1u8..(1 << c))
-                .filter(|m| m.count_ones() as usize == size)
-                .map(ColourSet)
-                .collect();
-            // Partial Fisher–Yates: the first `wanted` entries are a uniform subset.
-            for i in 0..wanted {
-                let j = i + below(&mut rng, (candidates.len() - i) as u32) as usize;
-                candidates.swap(i, j);
-            }
-            hint_colours.extend_from_slice(&candidates[..wanted]);
-        }
-        shuffle(&mut rng, &mut hint_colours);
+        let (cards, hints) = draw(config, seed);
         Deal {
-            card_colours,
-            hint_colours,
+            card_colours: cards[..config.cards()].to_vec(),
+            hint_colours: hints[..config.hints()].to_vec(),
         }
     }
+}
+
+/// The seeded deal in fixed-size arrays (the first Y card colours and H hint slots are
+/// meaningful), so that resetting a game allocates nothing: batched environments reset
+/// finished games inside their step loop.
+pub(crate) fn draw(config: &Config, seed: u64) -> ([Colour; MAX_CARDS], [ColourSet; MAX_HINTS]) {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let (y, c) = (config.cards(), config.colours());
+    let per = config.cards_per_colour();
+    let mut cards = [Colour(0); MAX_CARDS];
+    for (i, colour) in cards[..y].iter_mut().enumerate() {
+        *colour = Colour((i / per) as u8);
+    }
+    shuffle(&mut rng, &mut cards[..y]);
+
+    let mut hints = [ColourSet(0); MAX_HINTS];
+    let mut len = 0;
+    for size in 1..=c {
+        let wanted = config.hints_of_size(size);
+        if wanted == 0 {
+            continue;
+        }
+        // All colour sets of this size in increasing mask order: at most C(4, 2) = 6.
+        let mut candidates = [ColourSet(0); 6];
+        let mut n = 0;
+        for mask in (1u8..(1 << c)).filter(|m| m.count_ones() as usize == size) {
+            candidates[n] = ColourSet(mask);
+            n += 1;
+        }
+        // Partial Fisher–Yates: the first `wanted` entries are a uniform subset.
+        for i in 0..wanted {
+            let j = i + below(&mut rng, (n - i) as u32) as usize;
+            candidates.swap(i, j);
+        }
+        hints[len..len + wanted].copy_from_slice(&candidates[..wanted]);
+        len += wanted;
+    }
+    shuffle(&mut rng, &mut hints[..len]);
+    (cards, hints)
 }
 
 #[cfg(test)]

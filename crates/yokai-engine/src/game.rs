@@ -181,13 +181,18 @@ pub struct Game {
 impl Game {
     /// A new game dealt from a seed.
     pub fn new(config: Config, seed: u64) -> Game {
-        Game::from_valid_deal(config, &Deal::from_seed(&config, seed))
+        let (cards, hints) = crate::deal::draw(&config, seed);
+        Game::from_valid_deal(config, &cards[..config.cards()], &hints[..config.hints()])
     }
 
     /// A new game from an explicit deal (validated against the config).
     pub fn from_deal(config: Config, deal: &Deal) -> Result<Game, DealError> {
         deal.validate(&config)?;
-        Ok(Game::from_valid_deal(config, deal))
+        Ok(Game::from_valid_deal(
+            config,
+            &deal.card_colours,
+            &deal.hint_colours,
+        ))
     }
 
     /// A new game from an explicit deal with the cards on explicit cells instead of the
@@ -226,7 +231,11 @@ impl Game {
         Ok(game)
     }
 
-    fn from_valid_deal(config: Config, deal: &Deal) -> Game {
+    fn from_valid_deal(
+        config: Config,
+        card_colours: &[Colour],
+        hint_colours: &[ColourSet],
+    ) -> Game {
         let geo = *config.geometry();
         let (row0, col0, side) = config.start_square();
         let mut cell_of = [0u8; MAX_CARDS];
@@ -238,18 +247,18 @@ impl Game {
             let index = geo.index(cell);
             cell_of[k] = index as u8;
             occupied |= Bitboard::from_index(index);
-            colour_of[k] = deal.card_colours[k];
-            colour_cards[deal.card_colours[k].index()] |= 1 << k;
+            colour_of[k] = card_colours[k];
+            colour_cards[card_colours[k].index()] |= 1 << k;
         }
-        let mut hint_colours = [ColourSet(0); MAX_HINTS];
-        hint_colours[..config.hints()].copy_from_slice(&deal.hint_colours);
+        let mut hints = [ColourSet(0); MAX_HINTS];
+        hints[..config.hints()].copy_from_slice(hint_colours);
         Game {
             config,
             cell_of,
             occupied,
             colour_of,
             colour_cards,
-            hint_colours,
+            hint_colours: hints,
             revealed: 0,
             hint_card: [NO_CARD; MAX_HINTS],
             placed: 0,
