@@ -9,8 +9,7 @@ use crate::bitboard::{Bitboard, Cell};
 use crate::config::{Config, Memory};
 use crate::deal::{Deal, DealError};
 use crate::types::{
-    cards_in, Card, Colour, ColourSet, HintSlot, Seat, MAX_CARDS, MAX_COLOURS, MAX_HINTS,
-    MAX_PLAYERS,
+    Card, Colour, ColourSet, HintSlot, Seat, MAX_CARDS, MAX_COLOURS, MAX_HINTS, MAX_PLAYERS,
 };
 use std::fmt;
 
@@ -623,50 +622,6 @@ impl Game {
         let mut out = Vec::new();
         self.for_each_legal(seat, |a| out.push(a));
         out
-    }
-
-    /// Call `f` on every legal action of `seat`, in index order.
-    pub fn for_each_legal(&self, seat: Seat, mut f: impl FnMut(Action)) {
-        if self.is_over() {
-            return;
-        }
-        if seat.0 != self.current {
-            f(Action::Noop);
-            return;
-        }
-        let free = self.unhinted();
-        match self.substep() {
-            Substep::FirstObserve => {
-                f(Action::End);
-                cards_in(free).for_each(|c| f(Action::Observe(c)));
-            }
-            Substep::SecondObserve => {
-                cards_in(free & !self.turn_observed).for_each(|c| f(Action::Observe(c)))
-            }
-            Substep::Move => {
-                let geo = *self.config.geometry();
-                let mut any = false;
-                for card in cards_in(free) {
-                    for to in self.move_targets(card).iter() {
-                        any = true;
-                        f(Action::Move(card, geo.cell(to)));
-                    }
-                }
-                if !any {
-                    f(Action::Noop);
-                }
-            }
-            Substep::Hint => {
-                if self.face_down() > 0 {
-                    f(Action::Reveal);
-                }
-                for slot in 0..self.revealed {
-                    if self.hint_card[slot as usize] == NO_CARD {
-                        cards_in(free).for_each(|c| f(Action::Place(HintSlot(slot), c)));
-                    }
-                }
-            }
-        }
     }
 
     /// Mask of cards without a hint.

@@ -9,6 +9,7 @@
 //! neighbourhood. A card with a single neighbour is a leaf and can never split the rest, so
 //! it skips the fill. Each group costs one bitboard flood fill (a few shift/mask rounds).
 
+use crate::action::Action;
 use crate::bitboard::Bitboard;
 use crate::game::{Game, Substep};
 use crate::observation::Scalar;
@@ -30,32 +31,41 @@ impl Game {
     /// Write the legal-action mask of `seat` (length N_a): `ONE` for legal, `ZERO` otherwise.
     /// Allocation-free; this is what batched environments call every step.
     pub fn write_legal_mask<T: Scalar>(&self, seat: Seat, out: &mut [T]) {
-        let layout = self.config.action_layout();
         assert_eq!(
             out.len(),
-            layout.len,
+            self.config.num_actions(),
             "legal mask buffer has the wrong length"
         );
         out.fill(T::ZERO);
+        self.for_each_legal_index(seat, |i| out[i] = T::ONE);
+    }
+
+    /// Call `f` on every legal action of `seat`, in index order.
+    pub fn for_each_legal(&self, seat: Seat, mut f: impl FnMut(Action)) {
+        let config = self.config;
+        self.for_each_legal_index(seat, |i| f(config.decode(i).expect("legal indices decode")));
+    }
+
+    /// The one enumeration of legal actions (RULES §2), as action indices in increasing
+    /// order: NOOP alone for a non-acting seat, nothing once the game is over.
+    #[inline]
+    pub fn for_each_legal_index(&self, seat: Seat, mut f: impl FnMut(usize)) {
         if self.is_over() {
             return;
         }
         if seat.0 != self.current {
-            out[0] = T::ONE;
+            f(0);
             return;
         }
+        let layout = self.config.action_layout();
         let free = self.unhinted();
         match self.substep() {
             Substep::FirstObserve => {
-                out[1] = T::ONE;
-                for c in cards_in(free) {
-                    out[layout.observe + c.index()] = T::ONE;
-                }
+                f(1);
+                cards_in(free).for_each(|c| f(layout.observe + c.index()));
             }
             Substep::SecondObserve => {
-                for c in cards_in(free & !self.turn_observed) {
-                    out[layout.observe + c.index()] = T::ONE;
-                }
+                cards_in(free & !self.turn_observed).for_each(|c| f(layout.observe + c.index()))
             }
             Substep::Move => {
                 let cells = self.config.geometry().cells();
@@ -63,17 +73,17 @@ impl Game {
                 for c in cards_in(free) {
                     let base = layout.movement + c.index() * cells;
                     for to in self.move_targets(c).iter() {
-                        out[base + to] = T::ONE;
+                        f(base + to);
                         any = true;
                     }
                 }
                 if !any {
-                    out[0] = T::ONE;
+                    f(0);
                 }
             }
             Substep::Hint => {
                 if self.face_down() > 0 {
-                    out[layout.reveal] = T::ONE;
+                    f(layout.reveal);
                 }
                 let y = self.config.cards();
                 let mut slots = self.placeable_slots();
@@ -81,9 +91,7 @@ impl Game {
                     let slot = slots.trailing_zeros() as usize;
                     slots &= slots - 1;
                     let base = layout.place + slot * y;
-                    for c in cards_in(free) {
-                        out[base + c.index()] = T::ONE;
-                    }
+                    cards_in(free).for_each(|c| f(base + c.index()));
                 }
             }
         }
