@@ -3,8 +3,8 @@
 
 use serde_json::json;
 use std::time::{Duration, Instant};
-use yokai_engine::{Config, Part, Scalar};
-use yokai_vec::{Encoding, VecEnv, VecEnvOptions};
+use yokai_engine::{Config, Scalar};
+use yokai_vec::{VecEnv, VecEnvOptions};
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -94,11 +94,7 @@ pub fn run(args: Args) -> Result<(), String> {
     if !args.json {
         println!(
             "random legal actions, {} observations for every seat + legal masks, {threads} thread(s), {} s per row",
-            match encoding {
-                Encoding::Image(Part::Full) => "image".to_string(),
-                other => format!("{other:?}"),
-            },
-            args.seconds
+            args.encoding, args.seconds
         );
         println!("| config | games | dtype | steps/s | paper H100 | ratio |");
         println!("|---|---|---|---|---|---|");

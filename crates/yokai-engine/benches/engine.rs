@@ -3,7 +3,7 @@
 
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion};
 use std::hint::black_box;
-use yokai_engine::{Config, Game, ImageEncoder, Part, Seat, Substep};
+use yokai_engine::{Config, Game, ImageEncoder, Part, Scalar, Seat, Substep};
 
 /// Mid-game states at the MOVE substep, reached by deterministic pseudo-random play.
 fn move_states(config: Config, count: usize) -> Vec<Game> {
@@ -28,6 +28,26 @@ fn move_states(config: Config, count: usize) -> Vec<Game> {
         seed += 1;
     }
     out
+}
+
+fn bench_image<T: Scalar>(c: &mut Criterion, id: &str, states: &[Game]) {
+    let config = *states[0].config();
+    let encoder = ImageEncoder::<T>::new(&config);
+    let mut out = vec![T::ZERO; config.image_shape(Part::Full).iter().product()];
+    let mut i = 0;
+    c.bench_function(id, |b| {
+        b.iter(|| {
+            encoder
+                .write(
+                    &states[i % states.len()],
+                    Seat(0),
+                    Part::Full,
+                    black_box(&mut out),
+                )
+                .unwrap();
+            i += 1;
+        })
+    });
 }
 
 fn benches(c: &mut Criterion) {
@@ -68,38 +88,8 @@ fn benches(c: &mut Criterion) {
                 BatchSize::SmallInput,
             )
         });
-        let encoder = ImageEncoder::<f32>::new(&config);
-        c.bench_function(&format!("{name}/image_f32_one_seat"), |b| {
-            let mut out = vec![0f32; config.image_shape(Part::Full).iter().product()];
-            let mut i = 0;
-            b.iter(|| {
-                encoder
-                    .write(
-                        &states[i % states.len()],
-                        Seat(0),
-                        Part::Full,
-                        black_box(&mut out),
-                    )
-                    .unwrap();
-                i += 1;
-            })
-        });
-        let encoder = ImageEncoder::<u8>::new(&config);
-        c.bench_function(&format!("{name}/image_u8_one_seat"), |b| {
-            let mut out = vec![0u8; config.image_shape(Part::Full).iter().product()];
-            let mut i = 0;
-            b.iter(|| {
-                encoder
-                    .write(
-                        &states[i % states.len()],
-                        Seat(0),
-                        Part::Full,
-                        black_box(&mut out),
-                    )
-                    .unwrap();
-                i += 1;
-            })
-        });
+        bench_image::<f32>(c, &format!("{name}/image_f32_one_seat"), &states);
+        bench_image::<u8>(c, &format!("{name}/image_u8_one_seat"), &states);
     }
 }
 

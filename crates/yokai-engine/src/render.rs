@@ -5,7 +5,7 @@
 //! Below the grid, one line per hint slot.
 
 use crate::game::{Game, Phase};
-use crate::types::{Card, HintSlot, Seat};
+use crate::types::{HintSlot, Seat};
 use std::fmt::Write;
 
 /// Whose knowledge of colours a rendering shows.
@@ -93,7 +93,7 @@ fn render(game: &Game, viewer: Viewer) -> String {
                     }
                     Viewer::Seat(_) => "",
                 };
-                format!("on {}{verdict}", Card(card.0))
+                format!("on {card}{verdict}")
             }
         };
         let _ = writeln!(s, "hint {slot}: {colours} {state}");

@@ -576,7 +576,7 @@ fn perfect_memory_keeps_colours_and_imperfect_forgets_them_when_the_turn_ends() 
             Memory::Perfect => assert_eq!(after, 0b1_0000_0001),
             Memory::Imperfect => assert_eq!(after, 0),
         }
-        // card 8 moved? no — but perfect memory follows a card wherever it goes:
+        // Seat 1 plays a turn; seat 0's memory of card 0 outlives it only with perfect memory.
         game.apply(obs(4)).unwrap();
         game.apply(obs(5)).unwrap();
         game.apply(mv(2, 3, 5)).unwrap();

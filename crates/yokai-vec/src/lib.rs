@@ -157,11 +157,12 @@ pub struct VecEnv<T: Scalar> {
     /// The acting seats' actions of a joint step, gathered before applying.
     scratch: Vec<u32>,
     image: ImageEncoder<T>,
+    sizes: Sizes,
     pool: rayon::ThreadPool,
 }
 
 /// Per-env sizes used inside the step loop.
-#[derive(Clone, Copy)]
+#[derive(Clone, Copy, Debug)]
 struct Sizes {
     players: usize,
     obs: usize,
@@ -212,6 +213,7 @@ impl<T: Scalar + Default> VecEnv<T> {
             outcomes: vec![None; n],
             scratch: vec![0; n],
             image: ImageEncoder::new(&config),
+            sizes,
             pool,
         };
         env.reset();
@@ -243,7 +245,7 @@ impl<T: Scalar + Default> VecEnv<T> {
         self.shaping.fill(0.0);
         self.dones.fill(0);
         self.outcomes.fill(None);
-        let sizes = Self::sizes(&self.config, self.options.encoding);
+        let sizes = self.sizes;
         let encoding = self.options.encoding;
         let c = self.options.chunk;
         let image = &self.image;
@@ -341,7 +343,7 @@ impl<T: Scalar + Default> VecEnv<T> {
         let config = self.config;
         let seed = self.options.seed;
         let encoding = self.options.encoding;
-        let sizes = Self::sizes(&config, encoding);
+        let sizes = self.sizes;
         let c = self.options.chunk;
         let image = &self.image;
         let (slots, obs, adj, masks, rewards, shaping, dones, acting, outcomes) = (
@@ -425,12 +427,12 @@ impl<T: Scalar + Default> VecEnv<T> {
         s
     }
     pub fn observations(&self) -> &[T] {
-        let sizes = Self::sizes(&self.config, self.options.encoding);
+        let sizes = self.sizes;
         &self.observations[..self.options.num_envs * sizes.players * sizes.obs]
     }
     /// `[N, Y, Y]` for graph encodings, empty otherwise.
     pub fn adjacency(&self) -> &[T] {
-        let sizes = Self::sizes(&self.config, self.options.encoding);
+        let sizes = self.sizes;
         &self.adjacency[..self.options.num_envs * sizes.adjacency]
     }
     /// `[N, P, N_a]`, 1 where legal.
