@@ -81,6 +81,13 @@ impl RecordedGame {
         })
     }
 
+    /// Continue a recorded game: replays `record` (checking every action and the recorded
+    /// outcome) and keeps recording from where it ends.
+    pub fn from_record(record: EpisodeRecord) -> Result<RecordedGame, ReplayError> {
+        let game = record.replay()?;
+        Ok(RecordedGame { game, record })
+    }
+
     pub fn game(&self) -> &Game {
         &self.game
     }
@@ -152,5 +159,47 @@ impl EpisodeRecord {
 
     pub fn from_json(text: &str) -> Result<EpisodeRecord, ReplayError> {
         serde_json::from_str(text).map_err(|e| ReplayError::Json(e.to_string()))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Play the last legal action of the acting seat `steps` times (the first one is often
+    /// END, which would finish the game at once).
+    fn play_last_legal(game: &mut RecordedGame, steps: usize) {
+        for _ in 0..steps {
+            let seat = game.game().current_seat();
+            let action = *game.game().legal_actions(seat).last().unwrap();
+            game.apply(action).unwrap();
+        }
+    }
+
+    #[test]
+    fn from_record_continues_where_the_record_stops() {
+        let config = Config::from_name("9c-2p-perfect").unwrap();
+        let mut original = RecordedGame::new(config, 7);
+        play_last_legal(&mut original, 9);
+        let mut resumed = RecordedGame::from_record(original.record().clone()).unwrap();
+        assert!(resumed.game() == original.game());
+        play_last_legal(&mut original, 5);
+        play_last_legal(&mut resumed, 5);
+        assert!(resumed.game() == original.game());
+        assert_eq!(resumed.record(), original.record());
+    }
+
+    #[test]
+    fn from_record_refuses_an_illegal_action_and_names_its_step() {
+        let config = Config::from_name("9c-2p-perfect").unwrap();
+        let mut game = RecordedGame::new(config, 7);
+        play_last_legal(&mut game, 3);
+        let mut record = game.into_record();
+        // Step 1 is the second OBSERVE; END is legal only at substep 0.
+        record.actions[1] = config.encode(Action::End) as u16;
+        match RecordedGame::from_record(record) {
+            Err(ReplayError::Action { step: 1, .. }) => {}
+            other => panic!("expected an error at step 1, got {:?}", other.map(|_| ())),
+        }
     }
 }

@@ -1,0 +1,43 @@
+//! Rust errors as Python exceptions. Every error keeps the engine's message, which names
+//! what was wrong and where (the seat, the action, the step, the file).
+
+use pyo3::create_exception;
+use pyo3::exceptions::PyValueError;
+use pyo3::PyErr;
+
+create_exception!(
+    _core,
+    YokaiError,
+    PyValueError,
+    "Base class of every error raised by the Yōkai engine (a ValueError)."
+);
+create_exception!(
+    _core,
+    ConfigError,
+    YokaiError,
+    "A configuration name, TOML file or option that does not describe a playable game."
+);
+create_exception!(
+    _core,
+    IllegalActionError,
+    YokaiError,
+    "An action that is not legal now, or an index outside the action space; the game is unchanged."
+);
+create_exception!(
+    _core,
+    ReplayError,
+    YokaiError,
+    "A replay record that is not valid JSON or that does not replay to the recorded game."
+);
+
+pub fn config_error(e: impl std::fmt::Display) -> PyErr {
+    ConfigError::new_err(e.to_string())
+}
+
+pub fn illegal(e: impl std::fmt::Display) -> PyErr {
+    IllegalActionError::new_err(e.to_string())
+}
+
+pub fn replay_error(e: impl std::fmt::Display) -> PyErr {
+    ReplayError::new_err(e.to_string())
+}

@@ -1,0 +1,57 @@
+//! # yokai-python — the `yokai._core` extension module
+//!
+//! Thin PyO3 bindings: [`vec_env`] exposes the batched environment as zero-copy NumPy
+//! views, [`env`] one game with full introspection. Every Rust error becomes a Python
+//! exception carrying the engine's message ([`errors`]); nothing panics across the
+//! boundary. The pure-Python parts (PettingZoo wrapper, benchmark) live in `python/yokai`.
+
+mod arrays;
+mod env;
+mod errors;
+mod vec_env;
+
+use pyo3::prelude::*;
+use yokai_engine::Config;
+
+/// The seed of episode ``episode`` of game ``env`` in a ``VecEnv`` seeded with ``seed``:
+/// ``Env(config, seed=episode_seed(seed, i, e))`` deals the same game.
+#[pyfunction]
+fn episode_seed(seed: u64, env: usize, episode: u64) -> u64 {
+    yokai_vec::episode_seed(seed, env, episode)
+}
+
+/// The names of the built-in configurations.
+#[pyfunction]
+fn configs() -> Vec<String> {
+    let mut names = Vec::new();
+    for cards in ["9c", "16c"] {
+        for players in 2..=4 {
+            for memory in ["perfect", "imperfect"] {
+                let name = format!("{cards}-{players}p-{memory}");
+                if Config::from_name(&name).is_ok() {
+                    names.push(name);
+                }
+            }
+        }
+    }
+    names
+}
+
+#[pymodule]
+#[pyo3(name = "_core")]
+fn yokai_core(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = m.py();
+    m.add_class::<vec_env::PyVecEnv>()?;
+    m.add_class::<env::PyEnv>()?;
+    m.add_function(wrap_pyfunction!(episode_seed, m)?)?;
+    m.add_function(wrap_pyfunction!(configs, m)?)?;
+    m.add("YokaiError", py.get_type::<errors::YokaiError>())?;
+    m.add("ConfigError", py.get_type::<errors::ConfigError>())?;
+    m.add(
+        "IllegalActionError",
+        py.get_type::<errors::IllegalActionError>(),
+    )?;
+    m.add("ReplayError", py.get_type::<errors::ReplayError>())?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

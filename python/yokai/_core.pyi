@@ -1,0 +1,134 @@
+"""Type stubs of the Rust extension module ``yokai._core``."""
+
+from typing import Any, Optional, Sequence, Union
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+class YokaiError(ValueError):
+    """Base class of every error raised by the Yōkai engine."""
+
+class ConfigError(YokaiError):
+    """A configuration name, TOML file or option that does not describe a playable game."""
+
+class IllegalActionError(YokaiError):
+    """An illegal action or an index outside the action space; the game is unchanged."""
+
+class ReplayError(YokaiError):
+    """A replay record that is not valid JSON or does not replay to the recorded game."""
+
+Action = Union[int, str]
+DType = Union[str, type, np.dtype]
+
+def episode_seed(seed: int, env: int, episode: int) -> int:
+    """The deal seed of episode ``episode`` of game ``env`` in a VecEnv seeded ``seed``."""
+
+def configs() -> list[str]:
+    """Names of the built-in configurations (e.g. ``"9c-2p-perfect"``)."""
+
+class VecEnv:
+    """N games of one configuration stepped together on all cores.
+
+    ``reset()`` and ``step()`` return a dict of read-only NumPy arrays that view the
+    environment's buffers; the next call overwrites them in place (copy what you keep).
+
+    Keys: ``obs`` [N, P, ...], ``legal_mask`` [N, P, N_a] uint8, ``reward`` [N] float32,
+    ``shaping`` [N] float32, ``done`` [N] bool, ``acting_seat`` [N] uint8, ``adjacency``
+    [N, Y, Y] (graph encodings), ``final``: dict of [N] arrays (``reward``, ``won``,
+    ``early_end``, ``length``, ``correct_hints``, ``wrong_hints``, ``score``) for games
+    that ended on this step. A finished game is reset in the same step: ``obs``,
+    ``legal_mask`` and ``acting_seat`` then show the next game's first state.
+    """
+
+    def __init__(
+        self,
+        config: str = "9c-2p-perfect",
+        num_envs: int = 1024,
+        seed: int = 0,
+        obs: str = "image",
+        dtype: Optional[DType] = None,
+        threads: Optional[int] = None,
+    ) -> None: ...
+    def reset(self, seed: Optional[int] = None) -> dict[str, Any]:
+        """Restart every game at episode 0 of its seed stream."""
+    def step(self, actions: npt.ArrayLike) -> dict[str, Any]:
+        """Step all games with int actions of shape [N] (acting seat) or [N, P] (all seats).
+
+        Raises IllegalActionError (nothing changes) for an illegal action, ValueError for
+        a wrong shape, TypeError for non-integer actions.
+        """
+    def sample_actions(self, seed: int) -> npt.NDArray[np.uint32]:
+        """A uniformly random legal action of each game's acting seat, [N] uint32."""
+    def action_name(self, action: int) -> str: ...
+    def render(self, env: int, seat: Optional[int] = None) -> str:
+        """Text picture of game ``env``: the true board or what ``seat`` knows."""
+    @property
+    def num_envs(self) -> int: ...
+    @property
+    def num_players(self) -> int: ...
+    @property
+    def num_actions(self) -> int: ...
+    @property
+    def observation_shape(self) -> list[int]: ...
+    @property
+    def config(self) -> str: ...
+    @property
+    def obs(self) -> str: ...
+    @property
+    def dtype(self) -> str: ...
+    @property
+    def seed(self) -> int: ...
+    def __len__(self) -> int: ...
+
+class Env:
+    """One game of Yōkai that records its actions. ``seat=None`` means the acting seat."""
+
+    def __init__(self, config: str = "9c-2p-perfect", seed: int = 0) -> None: ...
+    def reset(self, seed: Optional[int] = None) -> None:
+        """Deal from ``seed``, or from the previous seed + 1."""
+    def step(self, action: Action) -> tuple[int, int, bool]:
+        """Play the acting seat's action; returns (reward, shaping, done)."""
+    def step_joint(self, actions: Sequence[Action]) -> tuple[int, int, bool]:
+        """One action per seat (NOOP for all but the acting seat)."""
+    def legal_actions(self, seat: Optional[int] = None) -> list[int]: ...
+    def legal_mask(self, seat: Optional[int] = None) -> npt.NDArray[np.uint8]: ...
+    def action_name(self, action: int) -> str: ...
+    def action_index(self, name: str) -> int: ...
+    def render(self, seat: Optional[int] = None) -> str: ...
+    def observation(
+        self, seat: Optional[int] = None, encoding: str = "image", dtype: Optional[DType] = None
+    ) -> npt.NDArray[Any]: ...
+    def observation_shape(self, encoding: str = "image") -> list[int]: ...
+    def adjacency(self) -> npt.NDArray[np.float32]: ...
+    def ground_truth(self) -> npt.NDArray[np.uint8]:
+        """True colour of every card (hidden information)."""
+    def to_replay(self) -> str: ...
+    @staticmethod
+    def from_replay(text: str) -> "Env": ...
+    def copy(self) -> "Env": ...
+    @property
+    def acting_seat(self) -> int: ...
+    @property
+    def substep(self) -> int: ...
+    @property
+    def done(self) -> bool: ...
+    @property
+    def steps(self) -> int: ...
+    @property
+    def outcome(self) -> Optional[dict[str, Any]]: ...
+    @property
+    def history(self) -> list[int]: ...
+    @property
+    def seed(self) -> Optional[int]: ...
+    @property
+    def num_players(self) -> int: ...
+    @property
+    def num_actions(self) -> int: ...
+    @property
+    def num_cards(self) -> int: ...
+    @property
+    def num_colours(self) -> int: ...
+    @property
+    def config(self) -> str: ...
