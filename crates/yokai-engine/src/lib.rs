@@ -98,6 +98,7 @@ pub use render::{render_seat, render_truth};
 pub use scoring::Outcome;
 pub use symmetry::{Symmetry, SymmetryError};
 pub use types::{
-    Card, Colour, ColourSet, HintSlot, Seat, MAX_CARDS, MAX_COLOURS, MAX_HINTS, MAX_PLAYERS,
+    cards_in, Card, Colour, ColourSet, HintSlot, Seat, MAX_CARDS, MAX_COLOURS, MAX_HINTS,
+    MAX_PLAYERS,
 };
-pub use view::SeatView;
+pub use view::{PublicView, SeatView};

@@ -1,0 +1,304 @@
+//! The scripted bots: no hidden information, exact posteriors, truthful hints, legal play.
+
+use yokai_agents::belief::colouring::{all_colourings, Colouring};
+use yokai_agents::eval::{play_group, seatings, PolicyFactory};
+use yokai_agents::{play_episode, BeliefParams, BeliefPolicy, Policy, PolicySpec};
+use yokai_engine::{cards_in, derive_seed, Action, Card, Config, Deal, Game, Seat, MAX_COLOURS};
+
+fn specs() -> Vec<PolicySpec> {
+    ["random", "greedy", "belief"]
+        .iter()
+        .map(|s| s.parse().unwrap())
+        .collect()
+}
+
+/// Play `steps` steps of belief self-play on `deal`; returns the actions.
+fn belief_history(config: Config, deal: &Deal, steps: usize, seed: u64) -> Vec<Action> {
+    let mut game = Game::from_deal(config, deal).unwrap();
+    let mut bots: Vec<BeliefPolicy> = (0..config.players())
+        .map(|s| BeliefPolicy::new(BeliefParams::default(), derive_seed(seed, s as u64)))
+        .collect();
+    let mut actions = Vec::new();
+    while actions.len() < steps && !game.is_over() {
+        let seat = game.current_seat();
+        let action = bots[seat.index()].act(&game.view(seat));
+        for (s, bot) in bots.iter_mut().enumerate() {
+            bot.observe(&game.view(Seat(s as u8)), seat, action);
+        }
+        game.apply(action).unwrap();
+        actions.push(action);
+    }
+    actions
+}
+
+/// Fresh policies of `spec` follow `history` on `deal`; returns what `seat`'s policy would
+/// play next (or None if the game is over or it is not `seat`'s turn).
+fn next_action(
+    config: Config,
+    deal: &Deal,
+    history: &[Action],
+    spec: &PolicySpec,
+    seed: u64,
+) -> Option<Action> {
+    let mut game = Game::from_deal(config, deal).unwrap();
+    let mut policies: Vec<Box<dyn Policy>> = (0..config.players())
+        .map(|s| spec.build(derive_seed(seed, s as u64)))
+        .collect();
+    for p in policies.iter_mut() {
+        p.reset(seed);
+    }
+    for &action in history {
+        let seat = game.current_seat();
+        for (s, p) in policies.iter_mut().enumerate() {
+            p.observe(&game.view(Seat(s as u8)), seat, action);
+        }
+        game.apply(action).unwrap();
+    }
+    if game.is_over() {
+        return None;
+    }
+    let seat = game.current_seat();
+    Some(policies[seat.index()].act(&game.view(seat)))
+}
+
+#[test]
+fn bots_act_the_same_when_only_hidden_colours_differ() {
+    let mut compared = 0;
+    for name in ["9c-2p-perfect", "9c-3p-imperfect", "16c-2p-perfect"] {
+        let config = Config::from_name(name).unwrap();
+        for seed in 0..12u64 {
+            let deal = Deal::from_seed(&config, seed);
+            let steps = (seed as usize * 3) % 20;
+            let history = belief_history(config, &deal, steps, seed);
+            let mut game = Game::from_deal(config, &deal).unwrap();
+            for &a in &history {
+                game.apply(a).unwrap();
+            }
+            if game.is_over() {
+                continue;
+            }
+            let seat = game.current_seat();
+            // Swap the colours of two cards of different colours the acting seat never saw.
+            let hidden: Vec<usize> = (0..config.cards())
+                .filter(|&c| game.ever_observed(seat) & (1 << c) == 0)
+                .collect();
+            let pair = hidden
+                .iter()
+                .flat_map(|&a| hidden.iter().map(move |&b| (a, b)))
+                .find(|&(a, b)| deal.card_colours[a] != deal.card_colours[b]);
+            let Some((a, b)) = pair else { continue };
+            let mut twin = deal.clone();
+            twin.card_colours.swap(a, b);
+            for spec in specs() {
+                let x = next_action(config, &deal, &history, &spec, seed);
+                let y = next_action(config, &twin, &history, &spec, seed);
+                assert_eq!(
+                    x, y,
+                    "{spec} on {name}, seed {seed}: hidden cards {a} and {b} changed its action"
+                );
+                compared += 1;
+            }
+        }
+    }
+    assert!(compared > 60, "only {compared} comparisons");
+}
+
+/// Colourings as deals with the hint pile of `deal`.
+fn deal_of(x: &Colouring, deal: &Deal, cards: usize) -> Deal {
+    Deal {
+        card_colours: (0..cards).map(|c| x.colour_of(Card(c as u8))).collect(),
+        hint_colours: deal.hint_colours.clone(),
+    }
+}
+
+#[test]
+fn posterior_equals_brute_force_over_all_deals() {
+    // For every colouring X of 9c, replay the same actions in the world dealt X with bots
+    // playing the convention: X is possible exactly when they would have played them all.
+    for (name, seed, steps) in [
+        ("9c-2p-perfect", 3u64, 10usize),
+        ("9c-2p-perfect", 8, 14),
+        ("9c-3p-imperfect", 5, 9),
+    ] {
+        let config = Config::from_name(name).unwrap();
+        let deal = Deal::from_seed(&config, seed);
+        let history = belief_history(config, &deal, steps, seed);
+        let consistent: Vec<Colouring> = all_colourings(&config)
+            .into_iter()
+            .filter(|x| {
+                let world = deal_of(x, &deal, config.cards());
+                let mut game = Game::from_deal(config, &world).unwrap();
+                let mut bots: Vec<BeliefPolicy> = (0..config.players())
+                    .map(|s| {
+                        BeliefPolicy::new(BeliefParams::default(), derive_seed(seed, s as u64))
+                    })
+                    .collect();
+                for &action in &history {
+                    let seat = game.current_seat();
+                    if bots[seat.index()].act(&game.view(seat)) != action {
+                        return false;
+                    }
+                    for (s, bot) in bots.iter_mut().enumerate() {
+                        bot.observe(&game.view(Seat(s as u8)), seat, action);
+                    }
+                    game.apply(action).unwrap();
+                }
+                true
+            })
+            .collect();
+        // The incremental posterior of every seat in the true game.
+        let mut game = Game::from_deal(config, &deal).unwrap();
+        let mut bots: Vec<BeliefPolicy> = (0..config.players())
+            .map(|s| BeliefPolicy::new(BeliefParams::default(), derive_seed(seed, s as u64)))
+            .collect();
+        for &action in &history {
+            let seat = game.current_seat();
+            for (s, bot) in bots.iter_mut().enumerate() {
+                bot.observe(&game.view(Seat(s as u8)), seat, action);
+            }
+            game.apply(action).unwrap();
+        }
+        let truth = deal_of_truth(&deal);
+        assert!(
+            consistent.contains(&truth),
+            "{name}: the true colouring must be possible"
+        );
+        for (s, bot) in bots.iter_mut().enumerate() {
+            let view = game.view(Seat(s as u8));
+            let known = view.known_cards();
+            let mut expected: Vec<Colouring> = consistent
+                .iter()
+                .filter(|x| cards_in(known).all(|c| Some(x.colour_of(c)) == view.known_colour(c)))
+                .copied()
+                .collect();
+            let mut got = bot.posterior(&view);
+            expected.sort_unstable_by_key(|x| x.masks);
+            got.sort_unstable_by_key(|x| x.masks);
+            assert!(bot.is_trusting());
+            assert_eq!(got, expected, "{name} seed {seed}: seat {s}'s posterior");
+            assert!(
+                got.len() < 1680,
+                "the history should have told the seat something"
+            );
+        }
+    }
+}
+
+fn deal_of_truth(deal: &Deal) -> Colouring {
+    let mut masks = [0u32; MAX_COLOURS];
+    for (card, colour) in deal.card_colours.iter().enumerate() {
+        masks[colour.index()] |= 1 << card;
+    }
+    Colouring { masks }
+}
+
+#[test]
+fn belief_places_only_hints_it_believes_true_while_it_may_reveal() {
+    let config = Config::from_name("9c-2p-perfect").unwrap();
+    let mut places = 0;
+    for seed in 0..300u64 {
+        let mut game = Game::new(config, seed);
+        let mut bots: Vec<BeliefPolicy> = (0..2)
+            .map(|s| BeliefPolicy::new(BeliefParams::default(), s))
+            .collect();
+        while !game.is_over() {
+            let seat = game.current_seat();
+            let view = game.view(seat);
+            let action = bots[seat.index()].act(&view);
+            if let Action::Place(slot, card) = action {
+                let hint = view.revealed_hint(slot).unwrap();
+                let posterior = bots[seat.index()].posterior(&view);
+                let fits = posterior.iter().filter(|x| x.in_hint(card, hint)).count();
+                assert!(fits > 0, "seed {seed}: placed a hint it believes wrong");
+                if view.face_down() > 0 {
+                    assert_eq!(
+                        fits,
+                        posterior.len(),
+                        "seed {seed}: a doubtful hint while it could reveal"
+                    );
+                    assert!(
+                        hint.contains(game.colour_of(card)),
+                        "a certain hint must be true"
+                    );
+                }
+                places += 1;
+            }
+            for (s, bot) in bots.iter_mut().enumerate() {
+                bot.observe(&game.view(Seat(s as u8)), seat, action);
+            }
+            game.apply(action).unwrap();
+        }
+    }
+    assert!(places > 300, "only {places} placements");
+}
+
+#[test]
+fn every_chosen_action_is_legal_over_100k_games() {
+    // play_episode checks every action; mixed tables exercise the belief bot's fallback
+    // when partners do not follow its convention.
+    let tables: [(&str, &[&str], u64); 7] = [
+        ("9c-2p-perfect", &["belief", "belief"], 25_000),
+        ("9c-2p-perfect", &["greedy", "greedy"], 25_000),
+        ("9c-2p-imperfect", &["belief", "random"], 10_000),
+        ("9c-3p-perfect", &["belief", "greedy", "random"], 10_000),
+        (
+            "9c-4p-imperfect",
+            &["greedy", "belief", "belief", "random"],
+            10_000,
+        ),
+        ("16c-2p-perfect", &["belief", "greedy"], 5_000),
+        ("9c-2p-perfect", &["random", "random"], 15_000),
+    ];
+    let mut total = 0;
+    for (name, seats, games) in tables {
+        let config = Config::from_name(name).unwrap();
+        let specs: Vec<PolicySpec> = seats.iter().map(|s| s.parse().unwrap()).collect();
+        let factories: Vec<Box<PolicyFactory<'_>>> = specs
+            .iter()
+            .map(|spec| Box::new(move |seed| spec.build(seed)) as Box<PolicyFactory<'_>>)
+            .collect();
+        let refs: Vec<&PolicyFactory<'_>> = factories.iter().map(|f| f.as_ref()).collect();
+        let acc = play_group(config, &refs, games, 42, &|_| {})
+            .unwrap_or_else(|e| panic!("{name} {seats:?}: {e}"));
+        assert_eq!(acc.games, games);
+        total += games;
+    }
+    assert!(total >= 100_000);
+}
+
+#[test]
+fn bots_are_deterministic_given_their_seed() {
+    let config = Config::from_name("9c-3p-perfect").unwrap();
+    for spec in specs() {
+        let play = || {
+            let mut seats: Vec<Box<dyn Policy>> = (0..3).map(|s| spec.build(s)).collect();
+            play_episode(config, 9, 4, &mut seats).unwrap().record
+        };
+        assert_eq!(play(), play(), "{spec}");
+    }
+}
+
+#[test]
+fn seatings_cover_every_permutation_using_all_members() {
+    assert_eq!(seatings(&[0, 1], 2), vec![vec![0, 1], vec![1, 0]]);
+    // Two policies at three seats: 2^3 arrangements minus the two that leave one out.
+    assert_eq!(seatings(&[0, 1], 3).len(), 6);
+    assert_eq!(seatings(&[2], 3), vec![vec![2, 2, 2]]);
+    assert_eq!(seatings(&[0, 1, 2], 3).len(), 6);
+}
+
+#[test]
+fn policy_names_parse_and_bad_ones_say_why() {
+    assert_eq!(
+        "belief".parse::<PolicySpec>().unwrap().to_string(),
+        "belief"
+    );
+    let tuned: PolicySpec = "belief:continue_win=0.5,end_margin=1".parse().unwrap();
+    assert_eq!(tuned.to_string(), "belief:continue_win=0.5,end_margin=1");
+    let err = |s: &str| s.parse::<PolicySpec>().unwrap_err().to_string();
+    assert!(err("bogus").contains("unknown policy `bogus`"));
+    assert!(err("greedy:depth=2").contains("has no parameter `depth`"));
+    assert!(err("belief:continue_win=x").contains("not a number"));
+    assert!(err("belief:continue_win=2").contains("probability"));
+    assert!(err("belief:continue_win").contains("name:key=value"));
+}
