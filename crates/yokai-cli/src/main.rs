@@ -1,6 +1,7 @@
 //! `yokai`: the command-line front end of the Yōkai Learning Environment.
 
 mod bench;
+mod eval;
 mod random;
 
 use clap::{Parser, Subcommand};
@@ -26,6 +27,9 @@ enum Command {
     Random(random::Args),
     /// Measure environment steps per second (random legal actions, all seats observed).
     Bench(bench::Args),
+    /// Self-play and cross-play of policies (every pair, every seating) with the paper's
+    /// metrics, as Markdown, CSV and JSON.
+    Eval(eval::Args),
     /// Show one game's deal and the board as text (ground truth).
     Show(random::ShowArgs),
 }
@@ -36,6 +40,7 @@ fn main() -> ExitCode {
         Command::Random(args) => random::run(args),
         Command::Show(args) => random::show(args),
         Command::Bench(args) => bench::run(args),
+        Command::Eval(args) => eval::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
