@@ -26,7 +26,7 @@ pub struct PyEnv {
 }
 
 impl PyEnv {
-    fn game(&self) -> &Game {
+    pub(crate) fn game(&self) -> &Game {
         self.game.game()
     }
 

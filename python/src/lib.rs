@@ -5,6 +5,7 @@
 //! exception carrying the engine's message ([`errors`]); nothing panics across the
 //! boundary. The pure-Python parts (PettingZoo wrapper, benchmark) live in `python/yokai`.
 
+mod agent;
 mod arrays;
 mod env;
 mod errors;
@@ -43,6 +44,7 @@ fn yokai_core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
     m.add_class::<vec_env::PyVecEnv>()?;
     m.add_class::<env::PyEnv>()?;
+    m.add_class::<agent::PyAgent>()?;
     m.add_function(wrap_pyfunction!(episode_seed, m)?)?;
     m.add_function(wrap_pyfunction!(configs, m)?)?;
     m.add("YokaiError", py.get_type::<errors::YokaiError>())?;

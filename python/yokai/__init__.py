@@ -34,3 +34,26 @@ __all__ = [
     "configs",
     "episode_seed",
 ]
+
+from ._core import Agent  # noqa: E402
+
+
+def play(config: str = "9c-2p-perfect", agents=("belief", "belief"), seed: int = 0, agent_seed: int = 0) -> Env:
+    """Play one game with a built-in agent per seat (names or ``Agent`` objects); every
+    agent is shown every action. Returns the finished ``Env`` (``outcome``,
+    ``to_replay()``, ``render()``)."""
+    env = Env(config, seed)
+    seats = [a if isinstance(a, Agent) else Agent(a, agent_seed + s) for s, a in enumerate(agents)]
+    if len(seats) != env.num_players:
+        raise ValueError(f"{len(seats)} agents for a {env.num_players}-player game")
+    for s, agent in enumerate(seats):
+        agent.reset(agent_seed + s)
+    while not env.done:
+        action = seats[env.acting_seat].act(env)
+        for s, agent in enumerate(seats):
+            agent.observe(env, s, action)
+        env.step(action)
+    return env
+
+
+__all__ += ["Agent", "play"]

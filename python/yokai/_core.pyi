@@ -132,3 +132,17 @@ class Env:
     def num_colours(self) -> int: ...
     @property
     def config(self) -> str: ...
+
+class Agent:
+    """A built-in policy ("random", "greedy", "belief", "belief:continue_win=0.9") for one
+    seat; sees only what its seat may know. Show it every action with ``observe`` before
+    ``env.step``."""
+
+    def __init__(self, name: str, seed: int = 0) -> None: ...
+    def reset(self, seed: int) -> None: ...
+    def act(self, env: Env) -> int:
+        """The action index it plays as the acting seat of ``env``."""
+    def observe(self, env: Env, seat: int, action: int) -> None:
+        """Tell the agent at ``seat`` that the acting seat is about to play ``action``."""
+    @property
+    def name(self) -> str: ...

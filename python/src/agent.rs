@@ -1,0 +1,82 @@
+//! `yokai.Agent`: a built-in policy (random, greedy, belief) playing one seat of an `Env`.
+
+use crate::env::PyEnv;
+use crate::errors::{config_error, illegal};
+use pyo3::prelude::*;
+use std::sync::Mutex;
+use yokai_agents::{Policy, PolicySpec};
+use yokai_engine::Seat;
+
+/// A built-in policy by name (``"random"``, ``"greedy"``, ``"belief"``, with parameters as
+/// ``"belief:continue_win=0.9"``). It sees only what its seat may know.
+///
+/// Bots that follow the game (``belief``) must be shown every action: call
+/// ``agent.observe(env, seat, action)`` for every agent *before* ``env.step(action)``, or
+/// use ``yokai.play`` which does it for you.
+#[pyclass(module = "yokai._core", name = "Agent")]
+pub struct PyAgent {
+    spec: PolicySpec,
+    /// A Mutex only to make the class `Sync` for PyO3; methods take `&mut self`.
+    policy: Mutex<Box<dyn Policy>>,
+}
+
+impl PyAgent {
+    fn policy(&mut self) -> &mut Box<dyn Policy> {
+        self.policy.get_mut().unwrap_or_else(|e| e.into_inner())
+    }
+}
+
+#[pymethods]
+impl PyAgent {
+    #[new]
+    #[pyo3(signature = (name, seed=0))]
+    fn new(name: &str, seed: u64) -> PyResult<Self> {
+        let spec: PolicySpec = name.parse().map_err(config_error)?;
+        let mut policy = spec.build(seed);
+        policy.reset(seed);
+        Ok(PyAgent {
+            spec,
+            policy: Mutex::new(policy),
+        })
+    }
+
+    /// Start a new game.
+    fn reset(&mut self, seed: u64) {
+        self.policy().reset(seed);
+    }
+
+    /// The action index this agent plays as the acting seat of ``env``.
+    fn act(&mut self, env: PyRef<'_, PyEnv>) -> PyResult<usize> {
+        let game = env.game();
+        if game.is_over() {
+            return Err(illegal("the game is over"));
+        }
+        let action = self.policy().act(&game.view(game.current_seat()));
+        Ok(game.config().encode(action))
+    }
+
+    /// Show this agent, sitting at ``seat``, that the acting seat of ``env`` is about to
+    /// play ``action``.
+    fn observe(&mut self, env: PyRef<'_, PyEnv>, seat: usize, action: usize) -> PyResult<()> {
+        let game = env.game();
+        if seat >= game.config().players() {
+            return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "there is no seat {seat} in a {}-player game",
+                game.config().players()
+            )));
+        }
+        let action = game.config().decode(action).map_err(illegal)?;
+        self.policy()
+            .observe(&game.view(Seat(seat as u8)), game.current_seat(), action);
+        Ok(())
+    }
+
+    #[getter]
+    fn name(&self) -> String {
+        self.spec.to_string()
+    }
+
+    fn __repr__(&self) -> String {
+        format!("Agent({:?})", self.spec.to_string())
+    }
+}
