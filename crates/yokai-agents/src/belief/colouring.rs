@@ -2,9 +2,7 @@
 
 use rand_chacha::rand_core::Rng;
 use rand_chacha::ChaCha8Rng;
-use yokai_engine::{
-    cards_in, Bitboard, Card, Cell, Colour, ColourSet, Config, PublicView, MAX_COLOURS,
-};
+use yokai_engine::{cards_in, Bitboard, Card, Colour, ColourSet, Config, PublicView, MAX_COLOURS};
 
 /// One assignment of colours to card ids, as one card mask per colour.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
@@ -25,34 +23,15 @@ impl Colouring {
         self.masks.map(|m| m & mask)
     }
 
-    /// Every colour forms one 4-connected group on the board of `view`.
-    pub fn is_won(&self, view: &PublicView<'_>, colours: usize) -> bool {
-        self.clustered(view, colours) == colours
-    }
-
     /// How many colours are clustered on the board of `view`.
     pub fn clustered(&self, view: &PublicView<'_>, colours: usize) -> usize {
-        self.clustered_after(view, colours, None)
-    }
-
-    /// How many colours would be clustered after moving `moved.0` to `moved.1`.
-    pub fn clustered_after(
-        &self,
-        view: &PublicView<'_>,
-        colours: usize,
-        moved: Option<(Card, Cell)>,
-    ) -> usize {
         let geometry = view.config().geometry();
-        let cell_of = |card: Card| match moved {
-            Some((m, cell)) if m == card => cell,
-            _ => view.cell_of(card),
-        };
         self.masks[..colours]
             .iter()
             .filter(|&&mask| {
                 let mut cells = Bitboard::EMPTY;
                 for card in cards_in(mask) {
-                    cells |= Bitboard::from_index(geometry.index(cell_of(card)));
+                    cells |= Bitboard::from_index(geometry.index(view.cell_of(card)));
                 }
                 geometry.is_connected(cells)
             })
