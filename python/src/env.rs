@@ -147,25 +147,8 @@ impl PyEnv {
             .iter()
             .map(|a| self.action(a))
             .collect::<PyResult<Vec<Action>>>()?;
-        let players = self.config_ref().players();
-        if actions.len() != players {
-            return Err(action_error(ActionError::WrongCount {
-                expected: players,
-                got: actions.len(),
-            }));
-        }
-        let acting = self.game().current_seat();
-        for (s, &action) in actions.iter().enumerate() {
-            let seat = Seat(s as u8);
-            self.game().check(seat, action).map_err(|reason| {
-                action_error(ActionError::Illegal {
-                    seat,
-                    action,
-                    reason,
-                })
-            })?;
-        }
-        self.step_action(actions[acting.0 as usize])
+        let step = self.game.step_joint(&actions).map_err(action_error)?;
+        Ok((step.reward, step.shaping, step.done))
     }
 
     /// Legal action indices of ``seat`` (only NOOP for a seat that is not acting).

@@ -94,12 +94,25 @@ impl RecordedGame {
 
     pub fn apply(&mut self, action: Action) -> Result<Step, ActionError> {
         let step = self.game.apply(action)?;
+        self.record_applied(action, step);
+        Ok(step)
+    }
+
+    fn record_applied(&mut self, action: Action, step: Step) {
         self.record
             .actions
             .push(self.game.config().encode(action) as u16);
         if step.done {
             self.record.outcome = self.game.outcome();
         }
+    }
+
+    /// [`Game::step_joint`] (one action per seat, all checked), recording the acting
+    /// seat's action.
+    pub fn step_joint(&mut self, actions: &[Action]) -> Result<Step, ActionError> {
+        let acting = self.game.current_seat().index();
+        let step = self.game.step_joint(actions)?;
+        self.record_applied(actions[acting], step);
         Ok(step)
     }
 
