@@ -130,7 +130,9 @@ fn final_metrics<'py>(
 pub fn vec_error(e: VecError) -> PyErr {
     match e {
         VecError::Action { .. } => illegal(&e),
-        VecError::ActionCount { .. } => PyValueError::new_err(e.to_string()),
+        VecError::ActionCount { .. }
+        | VecError::EnvIndex { .. }
+        | VecError::FinishedOnRestore { .. } => PyValueError::new_err(e.to_string()),
         VecError::NoEnvs | VecError::Encoding(_) | VecError::Threads { .. } => config_error(&e),
     }
 }

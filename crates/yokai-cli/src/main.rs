@@ -3,6 +3,7 @@
 mod bench;
 mod eval;
 mod random;
+mod train;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -30,6 +31,9 @@ enum Command {
     /// Self-play and cross-play of policies (every pair, every seating) with the paper's
     /// metrics, as Markdown, CSV and JSON.
     Eval(eval::Args),
+    /// Train seeds of a config (IPPO, HE, OP on burn), then evaluate them: self-play,
+    /// cross-play and the paper's table. Default: the CPU `quick` preset, seeds 0..3.
+    Train(train::Args),
     /// Show one game's deal and the board as text (ground truth).
     Show(random::ShowArgs),
 }
@@ -41,6 +45,7 @@ fn main() -> ExitCode {
         Command::Show(args) => random::show(args),
         Command::Bench(args) => bench::run(args),
         Command::Eval(args) => eval::run(args),
+        Command::Train(args) => train::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -96,6 +96,10 @@ pub enum VecError {
         #[source]
         source: ActionError,
     },
+    #[error("env {env} does not exist (num_envs is {num_envs})")]
+    EnvIndex { env: usize, num_envs: usize },
+    #[error("env {env}: the saved actions finish the game, so it cannot be restored mid-episode")]
+    FinishedOnRestore { env: usize },
     #[error("num_envs must be at least 1")]
     NoEnvs,
     #[error("unknown observation encoding `{0}` (expected image, image-public, image-private, graph, graph-public, graph-private or none)")]
@@ -407,6 +411,54 @@ impl<T: Scalar + Default> VecEnv<T> {
                     },
                 );
         });
+    }
+
+    /// Put game `env` back where it was: episode `episode` of its seed stream with the
+    /// acting seats' `actions` (action indices) applied, and rewrite its buffers. A trainer
+    /// saves `(episode, actions)` per game in a checkpoint so that a resumed run continues
+    /// every unfinished game exactly. Rewards, shaping and done of that game read 0 and no
+    /// outcome, as after a reset. An illegal or finishing action is an error and leaves the
+    /// game as it was.
+    pub fn restore(&mut self, env: usize, episode: u64, actions: &[u32]) -> Result<(), VecError> {
+        if env >= self.options.num_envs {
+            return Err(VecError::EnvIndex {
+                env,
+                num_envs: self.options.num_envs,
+            });
+        }
+        let mut game = Game::new(self.config, episode_seed(self.options.seed, env, episode));
+        for &a in actions {
+            let step = game
+                .apply_index(a as usize)
+                .map_err(|source| VecError::Action { env, source })?;
+            if step.done {
+                return Err(VecError::FinishedOnRestore { env });
+            }
+        }
+        self.slots[env] = Slot { game, episode };
+        self.rewards[env] = 0.0;
+        self.shaping[env] = 0.0;
+        self.dones[env] = 0;
+        self.outcomes[env] = None;
+        let sizes = self.sizes;
+        let (obs, adj, masks, acting) = (
+            &mut self.observations[env * sizes.players * sizes.obs.max(1)..],
+            &mut self.adjacency[env * sizes.adjacency.max(1)..],
+            &mut self.masks[env * sizes.players * sizes.actions..],
+            &mut self.acting[env..],
+        );
+        write_env(
+            &self.slots[env].game,
+            &self.image,
+            self.options.encoding,
+            sizes,
+            0,
+            obs,
+            adj,
+            masks,
+            acting,
+        );
+        Ok(())
     }
 
     // --- buffers -----------------------------------------------------------------------

@@ -206,3 +206,45 @@ fn encodings_parse() {
     assert!(Encoding::parse("image-secret").is_err());
     assert!(Encoding::parse("pixels").is_err());
 }
+
+#[test]
+fn restore_rebuilds_a_game_mid_episode_exactly() {
+    let config = Config::from_name("9c-2p-perfect").unwrap();
+    let n = 5;
+    let mut env = VecEnv::<f32>::new(config, VecEnvOptions::new(n, 7)).unwrap();
+    let mut history: Vec<Vec<u32>> = vec![Vec::new(); n];
+    let mut actions = vec![0u32; n];
+    for step in 0..60 {
+        env.sample_legal(step, &mut actions);
+        env.step(&actions).unwrap();
+        for (i, h) in history.iter_mut().enumerate() {
+            if env.dones()[i] == 1 {
+                h.clear();
+            } else {
+                h.push(actions[i]);
+            }
+        }
+    }
+    // A second batch, put into the same state game by game, writes the same buffers.
+    let mut copy = VecEnv::<f32>::new(config, VecEnvOptions::new(n, 7)).unwrap();
+    for (i, h) in history.iter().enumerate() {
+        copy.restore(i, env.episodes(i), h).unwrap();
+        assert_eq!(copy.game(i).steps(), env.game(i).steps());
+    }
+    assert_eq!(copy.observations(), env.observations());
+    assert_eq!(copy.legal_masks(), env.legal_masks());
+    assert_eq!(copy.acting_seats(), env.acting_seats());
+    // And both go on identically.
+    for step in 60..90 {
+        env.sample_legal(step, &mut actions);
+        env.step(&actions).unwrap();
+        copy.step(&actions).unwrap();
+        assert_eq!(copy.observations(), env.observations());
+        assert_eq!(copy.rewards(), env.rewards());
+    }
+    // Bad input is an error naming the game.
+    let e = copy.restore(9, 0, &[]).unwrap_err();
+    assert!(matches!(e, VecError::EnvIndex { env: 9, .. }));
+    let e = copy.restore(1, 0, &[5000]).unwrap_err();
+    assert!(e.to_string().starts_with("env 1:"), "{e}");
+}

@@ -1,0 +1,231 @@
+//! `yokai train`: train seeds of a config, then evaluate them against each other.
+
+use crate::eval::{evaluate, report, write_outputs, Entry};
+use indicatif::{ProgressBar, ProgressStyle};
+use std::path::{Path, PathBuf};
+use yokai_agents::PolicySpec;
+use yokai_train::{run::checkpoint_config, train_run, TrainConfig, TrainedPolicy};
+
+/// The configs shipped in `configs/`, built into the binary so that their names work from
+/// any directory.
+const PRESETS: &[(&str, &str)] = &[
+    ("quick", include_str!("../../../configs/quick.toml")),
+    ("quick-op", include_str!("../../../configs/quick-op.toml")),
+    (
+        "ippo-9c-2p",
+        include_str!("../../../configs/ippo-9c-2p.toml"),
+    ),
+    ("he-9c-2p", include_str!("../../../configs/he-9c-2p.toml")),
+    ("op-9c-2p", include_str!("../../../configs/op-9c-2p.toml")),
+    (
+        "ippo-9c-3p",
+        include_str!("../../../configs/ippo-9c-3p.toml"),
+    ),
+    ("he-9c-3p", include_str!("../../../configs/he-9c-3p.toml")),
+    ("op-9c-3p", include_str!("../../../configs/op-9c-3p.toml")),
+    (
+        "ippo-9c-4p",
+        include_str!("../../../configs/ippo-9c-4p.toml"),
+    ),
+    ("he-9c-4p", include_str!("../../../configs/he-9c-4p.toml")),
+    ("op-9c-4p", include_str!("../../../configs/op-9c-4p.toml")),
+    (
+        "ippo-16c-2p",
+        include_str!("../../../configs/ippo-16c-2p.toml"),
+    ),
+    (
+        "ippo-9c-2p-imperfect",
+        include_str!("../../../configs/ippo-9c-2p-imperfect.toml"),
+    ),
+];
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// Training config: a preset name (quick, quick-op, ippo-9c-2p, he-9c-2p, op-9c-2p, …;
+    /// see configs/) or a path to a TOML file.
+    #[arg(default_value = "quick")]
+    config: String,
+    /// Seeds to train: `0..3` (3 seeds: 0, 1, 2), `0,4,7` or one number.
+    #[arg(long, default_value = "0..3")]
+    seeds: String,
+    /// Directory of the runs (one `seed-N` folder per seed). Default: runs/<config name>.
+    #[arg(short, long)]
+    out: Option<PathBuf>,
+    /// Continue the runs in --out from their checkpoints instead of starting new ones.
+    #[arg(long)]
+    resume: bool,
+    /// Stop each seed after this many updates (it can be resumed later).
+    #[arg(long)]
+    max_updates: Option<u64>,
+    /// Override the config's total environment steps.
+    #[arg(long)]
+    steps: Option<u64>,
+    /// Games per pair in the evaluation after training; 0 skips it.
+    #[arg(long, default_value_t = 1_000)]
+    eval_games: u64,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    threads: Option<usize>,
+}
+
+/// Parse `0..3`, `0,4,7` or `5`.
+pub fn parse_seeds(text: &str) -> Result<Vec<u64>, String> {
+    let bad = || format!("--seeds `{text}` is not `A..B`, a comma-separated list or a number");
+    if let Some((a, b)) = text.split_once("..") {
+        let a: u64 = a.trim().parse().map_err(|_| bad())?;
+        let b: u64 = b.trim().parse().map_err(|_| bad())?;
+        if b <= a {
+            return Err(format!("--seeds `{text}` is empty (A..B excludes B)"));
+        }
+        return Ok((a..b).collect());
+    }
+    text.split(',')
+        .map(|s| s.trim().parse::<u64>().map_err(|_| bad()))
+        .collect()
+}
+
+fn load_config(name: &str) -> Result<(TrainConfig, String), String> {
+    if let Some((preset, text)) = PRESETS.iter().find(|(n, _)| *n == name) {
+        let config = TrainConfig::from_toml_str(text, &format!("configs/{preset}.toml"))
+            .map_err(|e| e.to_string())?;
+        return Ok((config, preset.to_string()));
+    }
+    let path = Path::new(name);
+    if !path.exists() {
+        let names: Vec<&str> = PRESETS.iter().map(|(n, _)| *n).collect();
+        return Err(format!(
+            "no training config `{name}`: not a preset ({}) and no such file",
+            names.join(", ")
+        ));
+    }
+    let config = TrainConfig::from_file(path).map_err(|e| e.to_string())?;
+    let stem = path
+        .file_stem()
+        .map_or("run".into(), |s| s.to_string_lossy().to_string());
+    Ok((config, stem))
+}
+
+pub fn run(args: Args) -> Result<(), String> {
+    let seeds = parse_seeds(&args.seeds)?;
+    let (mut config, name) = load_config(&args.config)?;
+    if let Some(steps) = args.steps {
+        config.ppo.total_steps = steps;
+    }
+    if let Some(t) = args.threads {
+        config.run.threads = t;
+    }
+    config.validate("config").map_err(|e| e.to_string())?;
+    let out = args
+        .out
+        .unwrap_or_else(|| PathBuf::from("runs").join(&name));
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(args.threads.unwrap_or(0))
+        .build()
+        .map_err(|e| format!("could not start threads: {e}"))?;
+    let game = config.game_config().map_err(|e| e.to_string())?;
+    eprintln!(
+        "training {name} ({} on {game}, {} network) for seeds {:?} into {}",
+        config.algorithm.name,
+        format!("{:?}", config.network.preset).to_lowercase(),
+        seeds,
+        out.display()
+    );
+    let mut dirs = Vec::new();
+    for &seed in &seeds {
+        let dir = out.join(format!("seed-{seed}"));
+        let run_config = if args.resume {
+            let mut c = checkpoint_config(&dir).map_err(|e| e.to_string())?;
+            if let Some(steps) = args.steps {
+                c.ppo.total_steps = steps;
+            }
+            c
+        } else {
+            config.clone()
+        };
+        let total = run_config.updates();
+        let bar = ProgressBar::new(total).with_style(
+            ProgressStyle::with_template(
+                "seed {prefix} [{bar:25}] {pos}/{len} updates {msg} (eta {eta})",
+            )
+            .expect("valid template")
+            .progress_chars("=> "),
+        );
+        bar.set_prefix(seed.to_string());
+        let summary = pool
+            .install(|| {
+                train_run(
+                    &run_config,
+                    seed,
+                    &dir,
+                    args.resume,
+                    args.max_updates,
+                    &mut |s, _| {
+                        bar.set_position(s.update);
+                        let r = s.games.map_or("–".into(), |m| format!("{:+.2}", m.reward));
+                        bar.set_message(format!(
+                            "| {} steps | {:.0} SPS | R {r} | H {:.2}",
+                            s.env_steps, s.sps, s.entropy
+                        ));
+                    },
+                )
+            })
+            .map_err(|e| e.to_string())?;
+        bar.finish_and_clear();
+        let last = summary.last.as_ref();
+        eprintln!(
+            "seed {seed}: {} updates, {} env steps in {:.0} s ({:.0} SPS); last R {} → {}",
+            summary.updates,
+            summary.env_steps,
+            summary.seconds,
+            summary.env_steps as f64 / summary.seconds.max(1e-9),
+            last.and_then(|s| s.games)
+                .map_or("–".into(), |m| format!("{:+.2}", m.reward)),
+            dir.display()
+        );
+        dirs.push(dir);
+    }
+    if args.eval_games == 0 {
+        return Ok(());
+    }
+    let mut entries = Vec::new();
+    for dir in &dirs {
+        let p = TrainedPolicy::load(dir).map_err(|e| e.to_string())?;
+        entries.push(Entry::Trained(Box::new(p)));
+    }
+    entries.push(Entry::Builtin(PolicySpec::Random));
+    let names: Vec<String> = entries.iter().map(Entry::name).collect();
+    eprintln!(
+        "evaluating {} policies and random, {} games per pair",
+        dirs.len(),
+        args.eval_games
+    );
+    let cells = evaluate(&game, &entries, args.eval_games, 0, args.threads)?;
+    let group: Vec<usize> = (0..dirs.len()).collect();
+    let text = report(&game, &names, &cells, args.eval_games, Some(&group));
+    print!("{text}");
+    let eval_dir = out.join("eval");
+    write_outputs(&eval_dir, &names, &cells, &text)?;
+    eprintln!("wrote {}", eval_dir.display());
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn seeds_parse_as_ranges_lists_and_numbers() {
+        assert_eq!(parse_seeds("0..3").unwrap(), vec![0, 1, 2]);
+        assert_eq!(parse_seeds("4, 7").unwrap(), vec![4, 7]);
+        assert_eq!(parse_seeds("5").unwrap(), vec![5]);
+        assert!(parse_seeds("3..3").is_err());
+        assert!(parse_seeds("a..b").is_err());
+    }
+
+    #[test]
+    fn every_shipped_config_is_valid() {
+        for (name, text) in PRESETS {
+            TrainConfig::from_toml_str(text, name).unwrap_or_else(|e| panic!("{name}: {e}"));
+        }
+    }
+}

@@ -1,0 +1,345 @@
+//! Training configuration: one TOML file per experiment (see `configs/`).
+//!
+//! Every field has a default (the paper's IPPO on 9c-2p with the paper network), so a file
+//! only states what differs. Unknown keys are errors, so a typo never silently trains the
+//! default. The resolved configuration (every field written out) is saved with each run.
+
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+use yokai_engine::Config;
+
+/// Everything that defines a training run except the seed.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct TrainConfig {
+    /// The game: a short name such as `9c-2p-perfect` or a path to a game TOML file.
+    pub game: String,
+    pub algorithm: AlgorithmConfig,
+    pub network: NetworkConfig,
+    pub ppo: PpoConfig,
+    pub run: RunConfig,
+}
+
+/// Which of the paper's algorithms; they differ only in these fields.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct AlgorithmConfig {
+    /// `ippo`, `he` (high-entropy IPPO) or `op` (Other-Play). A label for tables; HE's
+    /// different entropy and λ are set in `[ppo]` by its config file.
+    pub name: String,
+    /// Other-Play symmetries drawn per seat and episode: `none` (IPPO, HE), `colour`,
+    /// `rotation` or `both` (Φ_col × Φ_rot).
+    pub symmetries: SymmetrySet,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SymmetrySet {
+    None,
+    Colour,
+    Rotation,
+    Both,
+}
+
+impl SymmetrySet {
+    pub fn colours(self) -> bool {
+        matches!(self, SymmetrySet::Colour | SymmetrySet::Both)
+    }
+    pub fn rotations(self) -> bool {
+        matches!(self, SymmetrySet::Rotation | SymmetrySet::Both)
+    }
+}
+
+/// Which network: the paper's CNN-GRU, or a small MLP-GRU that learns on a laptop CPU.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum NetworkPreset {
+    /// 4 × Conv2d(64, 3×3, valid) over the image observation → Linear → GRU.
+    Paper,
+    /// Two-layer MLP over the per-card (graph node) features → GRU.
+    Compact,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct NetworkConfig {
+    pub preset: NetworkPreset,
+    /// Width of the embedding layer and of the GRU state (256 in the paper).
+    pub hidden: usize,
+    /// Conv filters per layer (paper preset only; 64 in the paper).
+    pub filters: usize,
+    /// Orthogonal-init gain of the actor head (small, so the first policy is near uniform).
+    pub actor_gain: f64,
+    /// Orthogonal-init gain of the critic head.
+    pub critic_gain: f64,
+}
+
+/// PPO hyper-parameters (the paper's Table of training details).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct PpoConfig {
+    /// Parallel games per rollout.
+    pub num_envs: usize,
+    /// Steps per rollout (and BPTT length: every game's sequence is kept whole).
+    pub rollout_steps: usize,
+    /// Total environment steps (one step = one action in each of `num_envs` games).
+    pub total_steps: u64,
+    /// Adam learning rate at the start; annealed linearly to 0 when `anneal_lr`.
+    pub lr: f64,
+    pub anneal_lr: bool,
+    pub adam_eps: f64,
+    pub gamma: f32,
+    pub gae_lambda: f32,
+    /// Policy-ratio clip ε.
+    pub clip: f32,
+    /// Clip of the value change from the rollout's value (the clipped value loss).
+    pub value_clip: f32,
+    pub value_coef: f32,
+    /// Entropy bonus α.
+    pub entropy_coef: f32,
+    /// Global gradient-norm clip.
+    pub max_grad_norm: f32,
+    pub epochs: usize,
+    pub minibatches: usize,
+    /// Weight of the shaping reward at the start; annealed linearly to 0 over the run.
+    pub shaping: f32,
+    /// Normalise advantages inside each minibatch (as JaxMARL's IPPO does).
+    pub normalize_advantages: bool,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct RunConfig {
+    /// Write a checkpoint every this many updates (and always after the last one).
+    pub checkpoint_every: u64,
+    /// Append a metrics line every this many updates.
+    pub log_every: u64,
+    /// Worker threads for the environments and the CPU backend; 0 = one per core.
+    pub threads: usize,
+}
+
+impl Default for TrainConfig {
+    fn default() -> Self {
+        TrainConfig {
+            game: "9c-2p-perfect".into(),
+            algorithm: AlgorithmConfig::default(),
+            network: NetworkConfig::default(),
+            ppo: PpoConfig::default(),
+            run: RunConfig::default(),
+        }
+    }
+}
+
+impl Default for AlgorithmConfig {
+    fn default() -> Self {
+        AlgorithmConfig {
+            name: "ippo".into(),
+            symmetries: SymmetrySet::None,
+        }
+    }
+}
+
+impl Default for NetworkConfig {
+    fn default() -> Self {
+        NetworkConfig {
+            preset: NetworkPreset::Paper,
+            hidden: 256,
+            filters: 64,
+            actor_gain: 0.01,
+            critic_gain: 1.0,
+        }
+    }
+}
+
+impl Default for PpoConfig {
+    fn default() -> Self {
+        PpoConfig {
+            num_envs: 1024,
+            rollout_steps: 128,
+            total_steps: 1_000_000_000,
+            lr: 3e-4,
+            anneal_lr: true,
+            adam_eps: 1e-5,
+            gamma: 0.99,
+            gae_lambda: 0.95,
+            clip: 0.2,
+            value_clip: 0.2,
+            value_coef: 0.5,
+            entropy_coef: 0.05,
+            max_grad_norm: 0.5,
+            epochs: 4,
+            minibatches: 4,
+            shaping: 1.0,
+            normalize_advantages: true,
+        }
+    }
+}
+
+impl Default for RunConfig {
+    fn default() -> Self {
+        RunConfig {
+            checkpoint_every: 50,
+            log_every: 1,
+            threads: 0,
+        }
+    }
+}
+
+/// A training configuration that cannot be used, with where and why.
+#[derive(Debug, thiserror::Error)]
+pub enum TrainConfigError {
+    #[error("cannot read training config {path}: {message}")]
+    Io { path: String, message: String },
+    #[error("training config {origin}: {message}")]
+    Parse { origin: String, message: String },
+    #[error("training config {origin}: field `{field}` {message}")]
+    Invalid {
+        origin: String,
+        field: &'static str,
+        message: String,
+    },
+    #[error("training config {origin}: game: {source}")]
+    Game {
+        origin: String,
+        #[source]
+        source: yokai_engine::ConfigError,
+    },
+}
+
+impl TrainConfig {
+    pub fn from_toml_str(text: &str, origin: &str) -> Result<TrainConfig, TrainConfigError> {
+        let config: TrainConfig = toml::from_str(text).map_err(|e| TrainConfigError::Parse {
+            origin: origin.to_string(),
+            message: e.to_string().trim_end().to_string(),
+        })?;
+        config.validate(origin)?;
+        Ok(config)
+    }
+
+    pub fn from_file(path: &Path) -> Result<TrainConfig, TrainConfigError> {
+        let text = std::fs::read_to_string(path).map_err(|e| TrainConfigError::Io {
+            path: path.display().to_string(),
+            message: e.to_string(),
+        })?;
+        TrainConfig::from_toml_str(&text, &path.display().to_string())
+    }
+
+    pub fn to_toml(&self) -> String {
+        toml::to_string_pretty(self).expect("a training config always serialises")
+    }
+
+    /// The game configuration this run trains on.
+    pub fn game_config(&self) -> Result<Config, TrainConfigError> {
+        Config::resolve(&self.game).map_err(|source| TrainConfigError::Game {
+            origin: self.game.clone(),
+            source,
+        })
+    }
+
+    /// Number of PPO updates the run makes.
+    pub fn updates(&self) -> u64 {
+        let per = (self.ppo.num_envs * self.ppo.rollout_steps) as u64;
+        self.ppo.total_steps.div_ceil(per).max(1)
+    }
+
+    /// Check every field a typo or a bad value could break, naming the field.
+    pub fn validate(&self, origin: &str) -> Result<(), TrainConfigError> {
+        let bad = |field: &'static str, message: &str| {
+            Err(TrainConfigError::Invalid {
+                origin: origin.to_string(),
+                field,
+                message: message.to_string(),
+            })
+        };
+        let game = self.game_config().map_err(|e| match e {
+            TrainConfigError::Game { source, .. } => TrainConfigError::Game {
+                origin: origin.to_string(),
+                source,
+            },
+            other => other,
+        })?;
+        let p = &self.ppo;
+        if p.num_envs == 0 {
+            return bad("ppo.num_envs", "must be at least 1");
+        }
+        if p.rollout_steps == 0 {
+            return bad("ppo.rollout_steps", "must be at least 1");
+        }
+        if p.minibatches == 0 || p.minibatches > p.num_envs * game.players() {
+            return bad(
+                "ppo.minibatches",
+                "must be between 1 and num_envs × players (minibatches split whole sequences)",
+            );
+        }
+        if p.epochs == 0 {
+            return bad("ppo.epochs", "must be at least 1");
+        }
+        if !(p.lr > 0.0 && p.lr.is_finite()) {
+            return bad("ppo.lr", "must be a positive number");
+        }
+        if !(0.0..=1.0).contains(&p.gamma) || !(0.0..=1.0).contains(&p.gae_lambda) {
+            return bad("ppo.gamma / ppo.gae_lambda", "must lie in [0, 1]");
+        }
+        if p.clip <= 0.0 || p.value_clip <= 0.0 || p.max_grad_norm <= 0.0 {
+            return bad(
+                "ppo.clip / ppo.value_clip / ppo.max_grad_norm",
+                "must be positive",
+            );
+        }
+        if self.network.hidden == 0 || self.network.filters == 0 {
+            return bad("network.hidden / network.filters", "must be at least 1");
+        }
+        if self.network.preset == NetworkPreset::Paper && game.grid() < 9 {
+            return bad(
+                "network.preset",
+                "paper needs a grid of at least 9×9 (four valid 3×3 convolutions)",
+            );
+        }
+        if self.run.checkpoint_every == 0 || self.run.log_every == 0 {
+            return bad("run.checkpoint_every / run.log_every", "must be at least 1");
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn defaults_are_the_papers_ippo() {
+        let c = TrainConfig::from_toml_str("", "test").unwrap();
+        assert_eq!(c.ppo.num_envs, 1024);
+        assert_eq!(c.ppo.rollout_steps, 128);
+        assert_eq!(c.ppo.entropy_coef, 0.05);
+        assert_eq!(c.network.hidden, 256);
+        assert_eq!(c.algorithm.symmetries, SymmetrySet::None);
+    }
+
+    #[test]
+    fn unknown_keys_and_bad_values_name_the_field() {
+        let e = TrainConfig::from_toml_str("[ppo]\nlearning_rate = 1.0\n", "x.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("x.toml") && e.contains("learning_rate"), "{e}");
+        let e = TrainConfig::from_toml_str("[ppo]\nnum_envs = 0\n", "x.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("ppo.num_envs"), "{e}");
+        let e = TrainConfig::from_toml_str("game = \"7c\"\n", "x.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("game"), "{e}");
+    }
+
+    #[test]
+    fn resolved_config_round_trips() {
+        let c = TrainConfig::from_toml_str(
+            "game = \"9c-3p-perfect\"\n[algorithm]\nname = \"op\"\nsymmetries = \"both\"\n",
+            "t",
+        )
+        .unwrap();
+        let back = TrainConfig::from_toml_str(&c.to_toml(), "t").unwrap();
+        assert_eq!(c, back);
+    }
+}

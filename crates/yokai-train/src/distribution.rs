@@ -1,0 +1,115 @@
+//! The masked categorical policy: illegal actions get probability 0 before the softmax, so
+//! log-probabilities and entropy are over legal actions only.
+
+use burn::prelude::*;
+use burn::tensor::activation::log_softmax;
+
+/// Added to the logits of illegal actions. Finite (not −∞) so that `p · log p` is 0, not NaN.
+const ILLEGAL: f32 = -1e9;
+
+/// Log-probabilities `[B, N_a]` from logits and a 0/1 legal mask of the same shape.
+pub fn masked_log_softmax(logits: Tensor<2>, mask: Tensor<2>) -> Tensor<2> {
+    log_softmax(logits + (mask - 1.0) * (-ILLEGAL), 1)
+}
+
+/// Entropy `[B]` of each row's distribution over its legal actions.
+pub fn entropy(log_probs: Tensor<2>, mask: Tensor<2>) -> Tensor<1> {
+    let p = log_probs.clone().exp();
+    (p * log_probs * mask).sum_dim(1).squeeze_dim::<1>(1).neg()
+}
+
+/// Log-probability `[B]` of each row's chosen action, given as a one-hot `[B, N_a]`.
+pub fn chosen_log_prob(log_probs: Tensor<2>, one_hot: Tensor<2>) -> Tensor<1> {
+    (log_probs * one_hot).sum_dim(1).squeeze_dim::<1>(1)
+}
+
+/// Sample one action from a row of logits over the legal actions (mask 1), on the CPU,
+/// with a uniform draw `u` in [0, 1). Returns the action, its log-probability and the
+/// row's entropy. `greedy` takes the most likely legal action instead.
+pub fn sample_row(logits: &[f32], mask: &[f32], u: f64, greedy: bool) -> (usize, f32, f32) {
+    let max = logits
+        .iter()
+        .zip(mask)
+        .filter(|(_, &m)| m > 0.5)
+        .map(|(&l, _)| l as f64)
+        .fold(f64::NEG_INFINITY, f64::max);
+    assert!(max.is_finite(), "a row with no legal action or a NaN logit");
+    let mut total = 0.0;
+    for (&l, &m) in logits.iter().zip(mask) {
+        if m > 0.5 {
+            total += (l as f64 - max).exp();
+        }
+    }
+    let log_total = total.ln();
+    let mut entropy = 0.0;
+    let mut drawn: Option<(usize, f64)> = None;
+    let mut last = (0, 0.0);
+    let mut best = (0, f64::NEG_INFINITY);
+    let mut acc = 0.0;
+    for (a, (&l, &m)) in logits.iter().zip(mask).enumerate() {
+        if m <= 0.5 {
+            continue;
+        }
+        let lp = l as f64 - max - log_total;
+        let p = lp.exp();
+        entropy -= p * lp;
+        acc += p;
+        if drawn.is_none() && u < acc {
+            drawn = Some((a, lp));
+        }
+        if lp > best.1 {
+            best = (a, lp);
+        }
+        last = (a, lp);
+    }
+    // A draw above the rounded total picks the last legal action.
+    let (action, lp) = if greedy { best } else { drawn.unwrap_or(last) };
+    (action, lp as f32, entropy as f32)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use burn::tensor::TensorData;
+
+    fn t2(v: Vec<f32>, shape: [usize; 2]) -> Tensor<2> {
+        Tensor::from_data(TensorData::new(v, shape), &Device::flex())
+    }
+
+    #[test]
+    fn log_probs_and_entropy_cover_legal_actions_only() {
+        // Row 0: logits [ln 1, ln 3, 5 (illegal)] → p = [1/4, 3/4, 0].
+        // Row 1: one legal action → p = 1, entropy 0.
+        let logits = t2(vec![0.0, 3f32.ln(), 5.0, 1.0, 2.0, 3.0], [2, 3]);
+        let mask = t2(vec![1.0, 1.0, 0.0, 0.0, 0.0, 1.0], [2, 3]);
+        let lp = masked_log_softmax(logits, mask.clone());
+        let v = lp.to_data().try_into_vec::<f32>().unwrap();
+        assert!((v[0] - 0.25f32.ln()).abs() < 1e-5);
+        assert!((v[1] - 0.75f32.ln()).abs() < 1e-5);
+        assert!(v[2] < -1e8);
+        assert!(v[5].abs() < 1e-6);
+        let h = entropy(lp.clone(), mask)
+            .into_data()
+            .try_into_vec::<f32>()
+            .unwrap();
+        let want = -(0.25f32 * 0.25f32.ln() + 0.75 * 0.75f32.ln());
+        assert!((h[0] - want).abs() < 1e-5, "{h:?}");
+        assert!(h[1].abs() < 1e-6);
+        let chosen = chosen_log_prob(lp, t2(vec![0.0, 1.0, 0.0, 0.0, 0.0, 1.0], [2, 3]));
+        let c = chosen.into_data().try_into_vec::<f32>().unwrap();
+        assert!((c[0] - 0.75f32.ln()).abs() < 1e-5 && c[1].abs() < 1e-6);
+    }
+
+    #[test]
+    fn sampling_follows_the_masked_distribution() {
+        let logits = [0.0, 3f32.ln(), 9.0];
+        let mask = [1.0, 1.0, 0.0];
+        assert_eq!(sample_row(&logits, &mask, 0.1, false).0, 0);
+        assert_eq!(sample_row(&logits, &mask, 0.3, false).0, 1);
+        assert_eq!(sample_row(&logits, &mask, 0.999_999_9, false).0, 1);
+        assert_eq!(sample_row(&logits, &mask, 0.1, true).0, 1);
+        let (_, lp, h) = sample_row(&logits, &mask, 0.1, false);
+        assert!((lp - 0.25f32.ln()).abs() < 1e-6);
+        assert!((h - 0.562_335_1).abs() < 1e-5);
+    }
+}

@@ -1,0 +1,22 @@
+//! Recurrent actor-critics and PPO training for the Yōkai Learning Environment, on burn.
+//!
+//! The default backend is burn's pure-Rust `flex` CPU backend; the `cuda` feature switches
+//! to burn's CUDA backend, so the same code trains on a GPU.
+
+pub mod config;
+pub mod distribution;
+pub mod file;
+pub mod gae;
+pub mod init;
+pub mod network;
+pub mod trainer;
+
+pub use config::{NetworkPreset, SymmetrySet, TrainConfig, TrainConfigError};
+pub use file::{Container, FileError};
+pub use network::{ActorCritic, CnnEncoder, Encoder, MlpEncoder};
+pub use trainer::{default_device, FileHeader, TrainError, Trainer, UpdateStats};
+pub mod policy;
+pub mod run;
+
+pub use policy::{NetworkPolicy, TrainedPolicy};
+pub use run::{read_metrics, train_run, RunSummary};

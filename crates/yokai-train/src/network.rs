@@ -1,0 +1,212 @@
+//! The recurrent actor-critic: an observation encoder, a GRU memory, and actor and critic
+//! heads, with parameters shared by every seat.
+//!
+//! Encoders are swappable behind [`Encoder`]; the trainer and the policy loader are generic
+//! over it. The GRU is our own cell built from two linear maps, because burn's `Gru` cannot
+//! reset its state inside a sequence and PPO rollouts contain episode starts anywhere.
+
+use crate::config::{NetworkPreset, TrainConfig};
+use crate::init::Init;
+use burn::module::Module;
+use burn::nn::conv::Conv2d;
+use burn::nn::Linear;
+use burn::prelude::*;
+use burn::tensor::activation::{relu, sigmoid, tanh};
+use yokai_engine::{Config, Part};
+use yokai_vec::Encoding;
+
+/// Maps a batch of flattened observations `[B, L]` to embeddings `[B, output_size]`.
+pub trait Encoder: Module + burn::module::ModuleDisplay + Sized {
+    /// The preset this encoder implements (stored in policy files).
+    const PRESET: NetworkPreset;
+    /// The observation encoding the encoder reads.
+    fn encoding() -> Encoding;
+    fn new(config: &TrainConfig, game: &Config, init: &mut Init, device: &Device) -> Self;
+    fn output_size(&self) -> usize;
+    fn forward(&self, obs: Tensor<2>) -> Tensor<2>;
+}
+
+/// The paper's encoder: 4 × Conv2d(filters, 3×3, stride 1, valid) with ReLU over the image
+/// `[g, g+1, F]`, flattened.
+#[derive(Module, Debug)]
+pub struct CnnEncoder {
+    convs: Vec<Conv2d>,
+    /// Image rows, columns and channels.
+    #[module(skip)]
+    shape: [usize; 3],
+    #[module(skip)]
+    out: usize,
+}
+
+impl Encoder for CnnEncoder {
+    const PRESET: NetworkPreset = NetworkPreset::Paper;
+    fn encoding() -> Encoding {
+        Encoding::Image(Part::Full)
+    }
+    fn new(config: &TrainConfig, game: &Config, init: &mut Init, device: &Device) -> Self {
+        let shape = game.image_shape(Part::Full);
+        let f = config.network.filters;
+        let gain = std::f64::consts::SQRT_2;
+        let convs = (0..4)
+            .map(|i| init.conv3x3(if i == 0 { shape[2] } else { f }, f, gain, device))
+            .collect();
+        let out = (shape[0] - 8) * (shape[1] - 8) * f;
+        CnnEncoder { convs, shape, out }
+    }
+    fn output_size(&self) -> usize {
+        self.out
+    }
+    fn forward(&self, obs: Tensor<2>) -> Tensor<2> {
+        let [b, _] = obs.dims();
+        let [h, w, c] = self.shape;
+        // Channels-last image → channels-first for Conv2d.
+        let mut x: Tensor<4> = obs.reshape([b, h, w, c]).permute([0, 3, 1, 2]);
+        for conv in &self.convs {
+            x = relu(conv.forward(x));
+        }
+        x.reshape([b as i64, -1])
+    }
+}
+
+/// The compact encoder: Linear + ReLU over the flattened graph node features (one small
+/// feature vector per card and per hint slot). Cheap enough to learn in minutes on a CPU.
+#[derive(Module, Debug)]
+pub struct MlpEncoder {
+    layer: Linear,
+    #[module(skip)]
+    out: usize,
+}
+
+impl Encoder for MlpEncoder {
+    const PRESET: NetworkPreset = NetworkPreset::Compact;
+    fn encoding() -> Encoding {
+        Encoding::Graph(Part::Full)
+    }
+    fn new(config: &TrainConfig, game: &Config, init: &mut Init, device: &Device) -> Self {
+        let len: usize = game.node_shape(Part::Full).iter().product();
+        let out = config.network.hidden;
+        MlpEncoder {
+            layer: init.linear(len, out, std::f64::consts::SQRT_2, device),
+            out,
+        }
+    }
+    fn output_size(&self) -> usize {
+        self.out
+    }
+    fn forward(&self, obs: Tensor<2>) -> Tensor<2> {
+        relu(self.layer.forward(obs))
+    }
+}
+
+/// A GRU cell (PyTorch's equations) that can be stepped with a per-row reset.
+#[derive(Module, Debug)]
+pub struct GruCell {
+    input: Linear,
+    hidden: Linear,
+    #[module(skip)]
+    size: usize,
+}
+
+impl GruCell {
+    fn new(d_in: usize, size: usize, init: &mut Init, device: &Device) -> GruCell {
+        GruCell {
+            input: init.linear(d_in, 3 * size, 1.0, device),
+            hidden: init.linear(size, 3 * size, 1.0, device),
+            size,
+        }
+    }
+
+    /// One step from the input projection `gx = W_i x + b_i` (`[B, 3H]`) and the state.
+    fn step(&self, gx: Tensor<2>, h: Tensor<2>) -> Tensor<2> {
+        let n = self.size;
+        let gh = self.hidden.forward(h.clone());
+        let r = sigmoid(gx.clone().narrow(1, 0, n) + gh.clone().narrow(1, 0, n));
+        let z = sigmoid(gx.clone().narrow(1, n, n) + gh.clone().narrow(1, n, n));
+        let cand = tanh(gx.narrow(1, 2 * n, n) + r * gh.narrow(1, 2 * n, n));
+        cand.clone() + z * (h - cand)
+    }
+}
+
+/// What one forward pass gives for a batch of rows.
+pub struct Output {
+    /// Unmasked action logits `[rows, N_a]`.
+    pub logits: Tensor<2>,
+    /// State values `[rows]`.
+    pub values: Tensor<1>,
+}
+
+/// Encoder → Linear → ReLU → GRU → actor and critic heads.
+#[derive(Module, Debug)]
+pub struct ActorCritic<E: Encoder> {
+    encoder: E,
+    embed: Linear,
+    gru: GruCell,
+    actor: Linear,
+    critic: Linear,
+    #[module(skip)]
+    hidden: usize,
+}
+
+impl<E: Encoder> ActorCritic<E> {
+    /// A freshly initialised network; a pure function of `seed`.
+    pub fn new(config: &TrainConfig, game: &Config, seed: u64, device: &Device) -> Self {
+        let mut init = Init::new(seed);
+        let encoder = E::new(config, game, &mut init, device);
+        let h = config.network.hidden;
+        let sqrt2 = std::f64::consts::SQRT_2;
+        ActorCritic {
+            embed: init.linear(encoder.output_size(), h, sqrt2, device),
+            encoder,
+            gru: GruCell::new(h, h, &mut init, device),
+            actor: init.linear(h, game.num_actions(), config.network.actor_gain, device),
+            critic: init.linear(h, 1, config.network.critic_gain, device),
+            hidden: h,
+        }
+    }
+
+    /// Size of the recurrent state.
+    pub fn hidden_size(&self) -> usize {
+        self.hidden
+    }
+
+    fn input_projection(&self, obs: Tensor<2>) -> Tensor<2> {
+        let x = relu(self.embed.forward(self.encoder.forward(obs)));
+        self.gru.input.forward(x)
+    }
+
+    fn heads(&self, h: Tensor<2>) -> Output {
+        let values = self.critic.forward(h.clone()).squeeze_dim(1);
+        Output {
+            logits: self.actor.forward(h),
+            values,
+        }
+    }
+
+    /// One step for `B` rows: observations `[B, L]`, states `[B, H]`, and `keep` `[B, 1]`
+    /// (0 where an episode starts at this step, which zeroes that row's state first).
+    /// Returns the outputs and the new states.
+    pub fn step(&self, obs: Tensor<2>, h: Tensor<2>, keep: Tensor<2>) -> (Output, Tensor<2>) {
+        let gx = self.input_projection(obs);
+        let h = self.gru.step(gx, h * keep);
+        (self.heads(h.clone()), h)
+    }
+
+    /// Unroll `T` steps for `B` sequences: observations `[B, T, L]`, initial states
+    /// `[B, H]`, `keep` `[B, T]`. Outputs are in `(b, t)` row-major order (`B·T` rows).
+    pub fn unroll(&self, obs: Tensor<3>, h0: Tensor<2>, keep: Tensor<2>) -> Output {
+        let [b, t, l] = obs.dims();
+        let gx = self
+            .input_projection(obs.reshape([b * t, l]))
+            .reshape([b, t, 3 * self.hidden]);
+        let mut h = h0;
+        let mut states = Vec::with_capacity(t);
+        for s in 0..t {
+            let gx_s: Tensor<2> = gx.clone().narrow(1, s, 1).squeeze_dim(1);
+            let keep_s = keep.clone().narrow(1, s, 1);
+            h = self.gru.step(gx_s, h * keep_s);
+            states.push(h.clone());
+        }
+        let all: Tensor<3> = Tensor::stack(states, 1);
+        self.heads(all.reshape([b * t, self.hidden]))
+    }
+}

@@ -1,0 +1,184 @@
+//! Trained networks as [`Policy`]s: load a policy file, a checkpoint or a run directory,
+//! then seat the network anywhere a built-in bot can sit (`yokai eval`, Python, `play`).
+
+use crate::config::{NetworkPreset, TrainConfig};
+use crate::distribution::sample_row;
+use crate::file::Container;
+use crate::network::{ActorCritic, CnnEncoder, Encoder, MlpEncoder};
+use crate::run::{CHECKPOINT, POLICY};
+use crate::trainer::{default_device, load_model, read_header, FileHeader, TrainError};
+use burn::prelude::*;
+use burn::tensor::TensorData;
+use rand_chacha::rand_core::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use std::path::{Path, PathBuf};
+use yokai_agents::Policy;
+use yokai_engine::{Action, Config, Seat, SeatView};
+use yokai_vec::Encoding;
+
+#[derive(Clone, Debug)]
+enum Net {
+    Paper(ActorCritic<CnnEncoder>),
+    Compact(ActorCritic<MlpEncoder>),
+}
+
+/// A trained network loaded from disk, ready to be seated any number of times.
+#[derive(Clone, Debug)]
+pub struct TrainedPolicy {
+    net: Net,
+    game: Config,
+    header: FileHeader,
+    path: PathBuf,
+    device: Device,
+}
+
+impl TrainedPolicy {
+    /// Load `path`: a policy file, a checkpoint, or a run directory (its `policy.ykp`, else
+    /// its checkpoint).
+    pub fn load(path: &Path) -> Result<TrainedPolicy, TrainError> {
+        let file_path = if path.is_dir() {
+            let policy = path.join(POLICY);
+            if policy.exists() {
+                policy
+            } else {
+                path.join(CHECKPOINT)
+            }
+        } else {
+            path.to_path_buf()
+        };
+        let file = Container::read(&file_path)?;
+        let header = read_header(&file, &file_path)?;
+        let shown = file_path.display().to_string();
+        let config = TrainConfig::from_toml_str(&header.train_config, &shown)?;
+        let game =
+            Config::from_toml_str(&header.game, &shown).map_err(|e| TrainError::Mismatch {
+                path: shown.clone(),
+                message: format!("game config: {e}"),
+            })?;
+        let device = default_device();
+        let bytes = file.section(&file_path, "model")?;
+        let net = match config.network.preset {
+            NetworkPreset::Paper => Net::Paper(load_model(
+                ActorCritic::new(&config, &game, 0, &device),
+                bytes,
+                &shown,
+            )?),
+            NetworkPreset::Compact => Net::Compact(load_model(
+                ActorCritic::new(&config, &game, 0, &device),
+                bytes,
+                &shown,
+            )?),
+        };
+        Ok(TrainedPolicy {
+            net,
+            game,
+            header,
+            path: file_path,
+            device,
+        })
+    }
+
+    /// The game the network was trained on (its observation and action sizes fit only it).
+    pub fn game(&self) -> &Config {
+        &self.game
+    }
+    pub fn header(&self) -> &FileHeader {
+        &self.header
+    }
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// A fresh seat-holder; `seed` drives its action sampling.
+    pub fn build(&self, seed: u64) -> Box<dyn Policy> {
+        match &self.net {
+            Net::Paper(m) => Box::new(NetworkPolicy::new(m.clone(), self, seed)),
+            Net::Compact(m) => Box::new(NetworkPolicy::new(m.clone(), self, seed)),
+        }
+    }
+}
+
+/// One seat played by a network: keeps its GRU state and steps it on every game step,
+/// whoever acts, exactly as in training.
+pub struct NetworkPolicy<E: Encoder> {
+    model: ActorCritic<E>,
+    name: String,
+    device: Device,
+    hidden: Vec<f32>,
+    obs: Vec<f32>,
+    mask: Vec<f32>,
+    /// Set when `act` already stepped the memory for the current game step.
+    stepped: bool,
+    rng: ChaCha8Rng,
+}
+
+impl<E: Encoder> NetworkPolicy<E> {
+    fn new(model: ActorCritic<E>, from: &TrainedPolicy, seed: u64) -> Self {
+        let len: usize = E::encoding().shape(&from.game).iter().product();
+        NetworkPolicy {
+            hidden: vec![0.0; model.hidden_size()],
+            model,
+            name: from.path.display().to_string(),
+            device: from.device.clone(),
+            obs: vec![0.0; len],
+            mask: vec![0.0; from.game.num_actions()],
+            stepped: false,
+            rng: ChaCha8Rng::seed_from_u64(seed),
+        }
+    }
+
+    /// Step the memory on `view` and return the logits.
+    fn step(&mut self, view: &SeatView<'_>) -> Vec<f32> {
+        match E::encoding() {
+            Encoding::Image(part) => view.write_image(part, &mut self.obs),
+            Encoding::Graph(part) => view.write_nodes(part, &mut self.obs),
+            Encoding::None => Ok(()),
+        }
+        .expect("buffers sized from the policy's own game config");
+        let d = &self.device;
+        let h = self.hidden.len();
+        let (out, state) = self.model.step(
+            Tensor::from_data(TensorData::new(self.obs.clone(), [1, self.obs.len()]), d),
+            Tensor::from_data(TensorData::new(self.hidden.clone(), [1, h]), d),
+            Tensor::ones([1, 1], d),
+        );
+        self.hidden = state
+            .into_data()
+            .convert::<f32>()
+            .try_into_vec::<f32>()
+            .expect("f32");
+        out.logits
+            .into_data()
+            .convert::<f32>()
+            .try_into_vec::<f32>()
+            .expect("f32")
+    }
+}
+
+impl<E: Encoder> Policy for NetworkPolicy<E> {
+    fn name(&self) -> String {
+        self.name.clone()
+    }
+    fn reset(&mut self, seed: u64) {
+        self.hidden.iter_mut().for_each(|h| *h = 0.0);
+        self.stepped = false;
+        self.rng = ChaCha8Rng::seed_from_u64(seed);
+    }
+    fn act(&mut self, view: &SeatView<'_>) -> Action {
+        let logits = self.step(view);
+        self.stepped = true;
+        view.write_legal_mask(&mut self.mask);
+        let u = (self.rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+        let (a, _, _) = sample_row(&logits, &self.mask, u, false);
+        view.config()
+            .decode(a)
+            .expect("sampled among the legal actions of this config")
+    }
+    fn observe(&mut self, before: &SeatView<'_>, _actor: Seat, _action: Action) {
+        if self.stepped {
+            self.stepped = false;
+        } else {
+            self.step(before);
+        }
+    }
+}

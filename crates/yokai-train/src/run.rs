@@ -1,0 +1,171 @@
+//! A run directory: one seed of one training config on disk.
+//!
+//! ```text
+//! RUN/config.toml      the resolved training config (every field)
+//! RUN/game.toml        the resolved game config
+//! RUN/metrics.jsonl    one JSON line per logged update (step, SPS, R, win, SEE, EE, WEE, LEN, losses, entropy)
+//! RUN/checkpoint.ykc   network, optimiser and loop state, replaced atomically
+//! RUN/policy.ykp       the final policy, loadable by `yokai eval` and Python
+//! ```
+
+use crate::config::{NetworkPreset, TrainConfig};
+use crate::network::{CnnEncoder, Encoder, MlpEncoder};
+use crate::trainer::{TrainError, Trainer, UpdateStats};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+pub const CHECKPOINT: &str = "checkpoint.ykc";
+pub const POLICY: &str = "policy.ykp";
+pub const METRICS: &str = "metrics.jsonl";
+
+/// What a finished (or stopped) run reports.
+#[derive(Clone, Debug)]
+pub struct RunSummary {
+    pub dir: PathBuf,
+    pub seed: u64,
+    pub updates: u64,
+    pub env_steps: u64,
+    /// The last logged update's figures.
+    pub last: Option<UpdateStats>,
+    pub seconds: f64,
+}
+
+fn io(path: &Path, e: std::io::Error) -> TrainError {
+    TrainError::Io {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    }
+}
+
+/// Start a new run of `config` with `seed` in `dir` (which must not hold a run already),
+/// or continue the run in `dir` from its checkpoint when `resume` is set. `on_update` sees
+/// every update (for progress bars). Stops after `max_updates` updates of this call if
+/// given (the run can be resumed later), else at the end of the config's budget.
+pub fn train_run(
+    config: &TrainConfig,
+    seed: u64,
+    dir: &Path,
+    resume: bool,
+    max_updates: Option<u64>,
+    on_update: &mut dyn FnMut(&UpdateStats, u64),
+) -> Result<RunSummary, TrainError> {
+    match config.network.preset {
+        NetworkPreset::Paper => {
+            run::<CnnEncoder>(config, seed, dir, resume, max_updates, on_update)
+        }
+        NetworkPreset::Compact => {
+            run::<MlpEncoder>(config, seed, dir, resume, max_updates, on_update)
+        }
+    }
+}
+
+/// The network preset a checkpoint was trained with, read from its header.
+pub fn checkpoint_config(dir: &Path) -> Result<TrainConfig, TrainError> {
+    let path = dir.join(CHECKPOINT);
+    let file = crate::file::Container::read(&path)?;
+    let header = crate::trainer::read_header(&file, &path)?;
+    Ok(TrainConfig::from_toml_str(
+        &header.train_config,
+        &path.display().to_string(),
+    )?)
+}
+
+fn run<E: Encoder>(
+    config: &TrainConfig,
+    seed: u64,
+    dir: &Path,
+    resume: bool,
+    max_updates: Option<u64>,
+    on_update: &mut dyn FnMut(&UpdateStats, u64),
+) -> Result<RunSummary, TrainError> {
+    let start = std::time::Instant::now();
+    let checkpoint = dir.join(CHECKPOINT);
+    let metrics_path = dir.join(METRICS);
+    let mut trainer = if resume {
+        let t = Trainer::<E>::resume(&checkpoint)?;
+        truncate_metrics(&metrics_path, t.update_count())?;
+        t
+    } else {
+        if checkpoint.exists() {
+            return Err(TrainError::Io {
+                path: dir.display().to_string(),
+                message: "already holds a run; use --resume to continue it or choose another --out"
+                    .into(),
+            });
+        }
+        std::fs::create_dir_all(dir).map_err(|e| io(dir, e))?;
+        let t = Trainer::<E>::new(config.clone(), seed)?;
+        let game = t.config().game_config()?;
+        write(&dir.join("config.toml"), &t.config().to_toml())?;
+        write(&dir.join("game.toml"), &game.to_toml())?;
+        write(&metrics_path, "")?;
+        t
+    };
+    let total = trainer.config().updates();
+    let mut log = std::fs::OpenOptions::new()
+        .append(true)
+        .open(&metrics_path)
+        .map_err(|e| io(&metrics_path, e))?;
+    let (log_every, ckpt_every) = (
+        trainer.config().run.log_every,
+        trainer.config().run.checkpoint_every,
+    );
+    let mut last = None;
+    let mut done_here = 0;
+    while !trainer.is_done() && max_updates.is_none_or(|m| done_here < m) {
+        let stats = trainer.update()?;
+        done_here += 1;
+        on_update(&stats, total);
+        let u = stats.update;
+        if u % log_every == 0 || u == total {
+            let line = serde_json::to_string(&stats).expect("stats serialise");
+            writeln!(log, "{line}").map_err(|e| io(&metrics_path, e))?;
+        }
+        if u % ckpt_every == 0 || u == total {
+            trainer.checkpoint().write_atomic(&checkpoint)?;
+        }
+        last = Some(stats);
+    }
+    // A stop before the budget still leaves a resumable checkpoint.
+    trainer.checkpoint().write_atomic(&checkpoint)?;
+    trainer.policy().write_atomic(&dir.join(POLICY))?;
+    Ok(RunSummary {
+        dir: dir.to_path_buf(),
+        seed: trainer.seed(),
+        updates: trainer.update_count(),
+        env_steps: trainer.env_steps(),
+        last,
+        seconds: start.elapsed().as_secs_f64(),
+    })
+}
+
+fn write(path: &Path, text: &str) -> Result<(), TrainError> {
+    std::fs::write(path, text).map_err(|e| io(path, e))
+}
+
+/// Drop metric lines past the checkpoint's update, so that a resumed log has no duplicates.
+fn truncate_metrics(path: &Path, update: u64) -> Result<(), TrainError> {
+    let text = std::fs::read_to_string(path).unwrap_or_default();
+    let kept: String = text
+        .lines()
+        .filter(|l| serde_json::from_str::<UpdateStats>(l).is_ok_and(|s| s.update <= update))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    write(path, &kept)
+}
+
+/// Read a run's metrics log.
+pub fn read_metrics(dir: &Path) -> Result<Vec<UpdateStats>, TrainError> {
+    let path = dir.join(METRICS);
+    let text = std::fs::read_to_string(&path).map_err(|e| io(&path, e))?;
+    text.lines()
+        .enumerate()
+        .filter(|(_, l)| !l.trim().is_empty())
+        .map(|(i, l)| {
+            serde_json::from_str(l).map_err(|e| TrainError::Mismatch {
+                path: format!("{}:{}", path.display(), i + 1),
+                message: e.to_string(),
+            })
+        })
+        .collect()
+}

@@ -1,0 +1,260 @@
+//! Trainer tests on tiny configs: Other-Play's action path, determinism, learning signal,
+//! exact resume, run directories, and clear errors for bad files.
+
+use std::path::Path;
+use yokai_agents::play_episode;
+use yokai_agents::Policy;
+use yokai_engine::Part;
+use yokai_train::file::Container;
+use yokai_train::{
+    read_metrics, train_run, MlpEncoder, SymmetrySet, TrainConfig, TrainError, TrainedPolicy,
+    Trainer,
+};
+
+fn tiny(symmetries: SymmetrySet, updates: u64) -> TrainConfig {
+    let mut c = TrainConfig::from_toml_str(
+        r#"
+game = "9c-2p-perfect"
+[network]
+preset = "compact"
+hidden = 16
+[ppo]
+num_envs = 8
+rollout_steps = 8
+minibatches = 2
+epochs = 2
+lr = 1e-3
+[run]
+threads = 1
+checkpoint_every = 1
+"#,
+        "tiny",
+    )
+    .unwrap();
+    c.algorithm.symmetries = symmetries;
+    c.ppo.total_steps = updates * 64;
+    c
+}
+
+/// burn's CPU backend splits work over rayon's threads; one thread makes float sums
+/// reproducible bit for bit.
+fn one_thread<T: Send>(f: impl FnOnce() -> T + Send) -> T {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap()
+        .install(f)
+}
+
+#[test]
+fn other_play_views_and_actions_round_trip_to_the_true_game() {
+    let mut trainer = Trainer::<MlpEncoder>::new(tiny(SymmetrySet::Both, 3), 1).unwrap();
+    for _ in 0..2 {
+        let game = *trainer.env().config();
+        let (obs, masks) = trainer.views();
+        let na = game.num_actions();
+        let l: usize = game.node_shape(Part::Full).iter().product();
+        let rows = 8 * game.players();
+        let mut transformed = 0;
+        for r in 0..rows {
+            let sym = trainer.row_symmetry(r);
+            transformed += !sym.is_identity() as usize;
+            let true_mask = &trainer.env().legal_masks()[r * na..][..na];
+            let view_mask = &masks[r * na..][..na];
+            let legal_view = view_mask.iter().filter(|&&m| m == 1.0).count();
+            let legal_true = true_mask.iter().filter(|&&m| m == 1).count();
+            assert_eq!(
+                legal_view, legal_true,
+                "row {r}: the symmetry keeps the count"
+            );
+            let mut mapped = std::collections::HashSet::new();
+            for a in (0..na).filter(|&a| view_mask[a] == 1.0) {
+                let t = trainer.to_true_action(r, a);
+                assert_eq!(
+                    true_mask[t], 1,
+                    "row {r}: view action {a} maps to illegal {t}"
+                );
+                assert_eq!(sym.apply_action_index(&game, t), a, "row {r}: round trip");
+                mapped.insert(t);
+            }
+            assert_eq!(
+                mapped.len(),
+                legal_true,
+                "row {r}: a bijection of legal actions"
+            );
+            // The inverse symmetry takes the seat's view back to the true observation.
+            let mut back = vec![0f32; l];
+            sym.inverse()
+                .apply_nodes(&game, Part::Full, &obs[r * l..][..l], &mut back)
+                .unwrap();
+            assert_eq!(back, trainer.env().observations()[r * l..][..l]);
+        }
+        assert!(
+            transformed > rows / 2,
+            "most seats draw a non-identity symmetry"
+        );
+        trainer.update().unwrap();
+    }
+}
+
+#[test]
+fn same_seed_same_weights_and_the_value_loss_falls() {
+    let run = |seed| {
+        one_thread(|| {
+            let mut t = Trainer::<MlpEncoder>::new(tiny(SymmetrySet::None, 12), seed).unwrap();
+            let losses: Vec<f64> = (0..12).map(|_| t.update().unwrap().value_loss).collect();
+            (t.parameters(), losses)
+        })
+    };
+    let (a, losses) = run(3);
+    let (b, _) = run(3);
+    let (c, _) = run(4);
+    assert_eq!(a, b, "same seed, same weights");
+    assert_ne!(a, c, "another seed, other weights");
+    let first = losses[0];
+    let late = losses[9..].iter().sum::<f64>() / 3.0;
+    assert!(
+        late < 0.5 * first,
+        "the critic learns the returns: value loss {first:.3} → {late:.3} ({losses:?})"
+    );
+}
+
+#[test]
+fn resume_continues_exactly_like_an_uninterrupted_run() {
+    let dir = tempdir("resume");
+    let config = tiny(SymmetrySet::Both, 4);
+    let whole = one_thread(|| {
+        let mut t = Trainer::<MlpEncoder>::new(config.clone(), 9).unwrap();
+        for _ in 0..4 {
+            t.update().unwrap();
+        }
+        t.parameters()
+    });
+    let resumed = one_thread(|| {
+        let mut t = Trainer::<MlpEncoder>::new(config.clone(), 9).unwrap();
+        for _ in 0..2 {
+            t.update().unwrap();
+        }
+        let path = dir.join("ckpt.ykc");
+        t.checkpoint().write_atomic(&path).unwrap();
+        drop(t);
+        let mut t = Trainer::<MlpEncoder>::resume(&path).unwrap();
+        assert_eq!(t.update_count(), 2);
+        for _ in 0..2 {
+            t.update().unwrap();
+        }
+        assert!(t.is_done());
+        t.parameters()
+    });
+    assert_eq!(whole, resumed);
+}
+
+#[test]
+fn a_run_directory_holds_config_metrics_checkpoint_and_a_playable_policy() {
+    let dir = tempdir("run").join("seed-0");
+    let config = tiny(SymmetrySet::None, 3);
+    let mut seen = Vec::new();
+    let summary = train_run(&config, 0, &dir, false, Some(2), &mut |s, total| {
+        seen.push((s.update, total))
+    })
+    .unwrap();
+    assert_eq!(seen, vec![(1, 3), (2, 3)]);
+    assert_eq!(summary.updates, 2);
+    let saved = TrainConfig::from_file(&dir.join("config.toml")).unwrap();
+    assert_eq!(saved, config);
+    assert_eq!(read_metrics(&dir).unwrap().len(), 2);
+    // A second start in the same directory is refused; --resume finishes the budget.
+    let again = train_run(&config, 0, &dir, false, None, &mut |_, _| {});
+    assert!(again
+        .unwrap_err()
+        .to_string()
+        .contains("already holds a run"));
+    let summary = train_run(&config, 0, &dir, true, None, &mut |_, _| {}).unwrap();
+    assert_eq!(summary.updates, 3);
+    let metrics = read_metrics(&dir).unwrap();
+    let updates: Vec<u64> = metrics.iter().map(|m| m.update).collect();
+    assert_eq!(updates, vec![1, 2, 3], "no duplicate lines after a resume");
+
+    let policy = TrainedPolicy::load(&dir).unwrap();
+    assert_eq!(policy.header().update, 3);
+    let game = *policy.game();
+    for g in 0..20 {
+        let mut seats: Vec<Box<dyn Policy>> = (0..2).map(|s| policy.build(g * 2 + s)).collect();
+        let episode = play_episode(game, g, g, &mut seats).unwrap();
+        assert!(episode.outcome.length >= 1);
+    }
+}
+
+#[test]
+fn corrupt_and_mismatched_files_give_clear_errors() {
+    let dir = tempdir("bad");
+    let t = Trainer::<MlpEncoder>::new(tiny(SymmetrySet::None, 1), 0).unwrap();
+    let ckpt = dir.join("ckpt.ykc");
+    t.checkpoint().write_atomic(&ckpt).unwrap();
+
+    // A flipped byte in the middle of the file.
+    let mut bytes = std::fs::read(&ckpt).unwrap();
+    let mid = bytes.len() / 2;
+    bytes[mid] ^= 0x55;
+    let bad = dir.join("flipped.ykc");
+    std::fs::write(&bad, &bytes).unwrap();
+    let e = err(Trainer::<MlpEncoder>::resume(&bad));
+    assert!(e.contains("flipped.ykc") && e.contains("corrupt"), "{e}");
+
+    // Truncated.
+    let short = dir.join("short.ykc");
+    std::fs::write(&short, &std::fs::read(&ckpt).unwrap()[..100]).unwrap();
+    let e = err(TrainedPolicy::load(&short));
+    assert!(e.contains("short.ykc") && e.contains("truncated"), "{e}");
+
+    // Not our format at all.
+    let text = dir.join("notes.txt");
+    std::fs::write(&text, "hello").unwrap();
+    assert!(err(TrainedPolicy::load(&text)).contains("not a Yōkai checkpoint"));
+
+    // A policy file cannot be resumed (it has no optimiser state).
+    let pol = dir.join("policy.ykp");
+    t.policy().write_atomic(&pol).unwrap();
+    assert!(err(Trainer::<MlpEncoder>::resume(&pol)).contains("not a checkpoint"));
+
+    // Weights of a different network size under a header that claims hidden = 16.
+    let other = Trainer::<MlpEncoder>::new(
+        {
+            let mut c = tiny(SymmetrySet::None, 1);
+            c.network.hidden = 8;
+            c
+        },
+        0,
+    )
+    .unwrap();
+    let mut file = Container::read(&pol).unwrap();
+    file.sections[0].1 = other.model_bytes();
+    let mixed = dir.join("mixed.ykp");
+    file.write_atomic(&mixed).unwrap();
+    let e = err(TrainedPolicy::load(&mixed));
+    assert!(
+        e.contains("mixed.ykp") && e.contains("cannot load the network"),
+        "{e}"
+    );
+}
+
+fn err<T>(r: Result<T, TrainError>) -> String {
+    match r {
+        Ok(_) => panic!("expected an error"),
+        Err(e) => e.to_string(),
+    }
+}
+
+fn tempdir(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!(
+        "yokai-train-test-{}-{name}-{}",
+        std::process::id(),
+        std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .unwrap()
+            .as_nanos()
+    ));
+    std::fs::create_dir_all(&dir).unwrap();
+    assert!(Path::new(&dir).is_dir());
+    dir
+}
