@@ -81,6 +81,7 @@ mod legal;
 pub mod metrics;
 pub mod observation;
 pub mod render;
+pub mod replay;
 pub mod scoring;
 pub mod symmetry;
 pub mod types;
@@ -95,6 +96,7 @@ pub use game::{ActionError, Game, Illegal, LayoutError, Phase, Step, Substep};
 pub use metrics::{Metrics, MetricsAccumulator};
 pub use observation::{BufferError, ImageChannels, ImageEncoder, Part, Scalar};
 pub use render::{render_seat, render_truth};
+pub use replay::{Replay, ReplayFileError, ReplayHeader, ReplayStep, REPLAY_FORMAT};
 pub use scoring::Outcome;
 pub use symmetry::{Symmetry, SymmetryError};
 pub use types::{
