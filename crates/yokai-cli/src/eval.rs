@@ -30,6 +30,9 @@ pub struct Args {
     /// Worker threads (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
+    /// Also save this many games of every pair as replay files in OUT/replays.
+    #[arg(long, default_value_t = 0, requires = "out")]
+    replays: u64,
 }
 
 /// One cell of the cross-play matrix.
@@ -66,7 +69,7 @@ impl Entry {
         }
     }
 
-    fn build(&self, seed: u64) -> Box<dyn Policy> {
+    pub fn build(&self, seed: u64) -> Box<dyn Policy> {
         match self {
             Entry::Builtin(spec) => spec.build(seed),
             Entry::Trained(p) => p.build(seed),
@@ -74,7 +77,7 @@ impl Entry {
     }
 
     /// A trained network fits only the game it was trained on.
-    fn check_game(&self, config: &Config) -> Result<(), String> {
+    pub fn check_game(&self, config: &Config) -> Result<(), String> {
         match self {
             Entry::Trained(p) if p.game() != config => Err(format!(
                 "{} was trained on {}, not on {config}: its observations and actions do not fit",
@@ -117,7 +120,54 @@ pub fn run(args: Args) -> Result<(), String> {
     print!("{report}");
     if let Some(dir) = args.out {
         write_outputs(&dir, &names, &cells, &report)?;
+        if args.replays > 0 {
+            let pairs: Vec<(usize, usize)> = cells.iter().map(|c| (c.row, c.col)).collect();
+            save_replays(
+                &config,
+                &entries,
+                &pairs,
+                args.replays,
+                args.seed,
+                &dir.join("replays"),
+            )?;
+        }
         eprintln!("wrote {}", dir.display());
+    }
+    Ok(())
+}
+
+/// Play `games` games of each pair (first seating that uses both) and save them as
+/// replay files `I-J-gameK.jsonl` in `dir`.
+pub fn save_replays(
+    config: &Config,
+    entries: &[Entry],
+    pairs: &[(usize, usize)],
+    games: u64,
+    seed: u64,
+    dir: &Path,
+) -> Result<(), String> {
+    std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    for &(i, j) in pairs {
+        let seating = seatings(&[i, j], config.players())
+            .into_iter()
+            .next()
+            .expect("at least one seating");
+        for k in 0..games {
+            let game_seed = yokai_engine::derive_seed(seed, 1_000_000 + k);
+            let mut policies: Vec<Box<dyn Policy>> = seating
+                .iter()
+                .enumerate()
+                .map(|(s, &e)| entries[e].build(yokai_engine::derive_seed(game_seed, s as u64)))
+                .collect();
+            let episode = yokai_agents::play_episode(*config, game_seed, game_seed, &mut policies)
+                .map_err(|e| e.to_string())?;
+            let names = seating.iter().map(|&e| entries[e].name()).collect();
+            let replay = yokai_engine::Replay::from_record(&episode.record, Some(game_seed), names)
+                .map_err(|e| e.to_string())?;
+            let path = dir.join(format!("{i}-{j}-game{k}.jsonl"));
+            std::fs::write(&path, replay.to_jsonl())
+                .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        }
     }
     Ok(())
 }

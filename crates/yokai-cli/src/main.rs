@@ -2,7 +2,10 @@
 
 mod bench;
 mod eval;
+mod play;
 mod random;
+mod replay;
+mod svg;
 mod train;
 
 use clap::{Parser, Subcommand};
@@ -34,6 +37,11 @@ enum Command {
     /// Train seeds of a config (IPPO, HE, OP on burn), then evaluate them: self-play,
     /// cross-play and the paper's table. Default: the CPU `quick` preset, seeds 0..3.
     Train(train::Args),
+    /// Play in the terminal with any mix of humans, bots and trained policies (a TUI, or
+    /// plain lines with --line); --save writes a replay.
+    Play(play::Args),
+    /// Step through a replay file, or render each turn as SVG/PNG pictures.
+    Replay(replay::Args),
     /// Show one game's deal and the board as text (ground truth).
     Show(random::ShowArgs),
 }
@@ -46,6 +54,8 @@ fn main() -> ExitCode {
         Command::Bench(args) => bench::run(args),
         Command::Eval(args) => eval::run(args),
         Command::Train(args) => train::run(args),
+        Command::Play(args) => play::run(args),
+        Command::Replay(args) => replay::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,6 +1,6 @@
 //! `yokai train`: train seeds of a config, then evaluate them against each other.
 
-use crate::eval::{evaluate, report, write_outputs, Entry};
+use crate::eval::{evaluate, report, save_replays, write_outputs, Entry};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
 use yokai_agents::PolicySpec;
@@ -205,6 +205,9 @@ pub fn run(args: Args) -> Result<(), String> {
     print!("{text}");
     let eval_dir = out.join("eval");
     write_outputs(&eval_dir, &names, &cells, &text)?;
+    // Two self-play games of every seed, to look at with `yokai replay`.
+    let selfplay: Vec<(usize, usize)> = group.iter().map(|&i| (i, i)).collect();
+    save_replays(&game, &entries, &selfplay, 2, 0, &eval_dir.join("replays"))?;
     eprintln!("wrote {}", eval_dir.display());
     Ok(())
 }

@@ -59,5 +59,9 @@ fn bad_policies_are_clear_errors() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("unknown policy `grandmaster`"));
     let out = yokai(&["eval", "Cargo.toml"]);
     assert!(!out.status.success());
-    assert!(String::from_utf8_lossy(&out.stderr).contains("is a file"));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("Cargo.toml is not a Yōkai checkpoint or policy file"),
+        "{err}"
+    );
 }

@@ -88,6 +88,11 @@ pub struct UpdateStats {
     pub entropy: f64,
     pub lr: f64,
     pub shaping: f64,
+    /// Mean |log π_new − log π_old| of the first minibatch, before any gradient step: the
+    /// learner replays the rollout's sequences, so this is 0 up to float rounding. A larger
+    /// value means the recurrent state or the batch layout differs between acting and
+    /// learning.
+    pub replay_error: f64,
 }
 
 /// A training run of one seed, in memory.
@@ -391,6 +396,7 @@ impl<E: Encoder> Trainer<E> {
         // --- learning ---
         let mb = rows / c.minibatches;
         let (mut pl_sum, mut vl_sum, mut count) = (0f64, 0f64, 0u64);
+        let mut replay_error = 0.0;
         let mut order: Vec<usize> = (0..rows).collect();
         for _ in 0..c.epochs {
             for i in (1..rows).rev() {
@@ -404,7 +410,7 @@ impl<E: Encoder> Trainer<E> {
                     (k + 1) * mb
                 };
                 let batch = &order[k * mb..end];
-                let (pl, vl) = self.learn(
+                let (pl, vl, err) = self.learn(
                     batch,
                     Rollout {
                         obs: &obs,
@@ -419,6 +425,9 @@ impl<E: Encoder> Trainer<E> {
                     },
                     lr,
                 );
+                if count == 0 {
+                    replay_error = err;
+                }
                 pl_sum += pl;
                 vl_sum += vl;
                 count += 1;
@@ -441,11 +450,13 @@ impl<E: Encoder> Trainer<E> {
             },
             lr,
             shaping,
+            replay_error,
         })
     }
 
-    /// One gradient step on the rows `batch` of the rollout; returns (policy, value) loss.
-    fn learn(&mut self, batch: &[usize], ro: Rollout<'_>, lr: f64) -> (f64, f64) {
+    /// One gradient step on the rows `batch` of the rollout; returns the policy and value
+    /// losses and the mean |Δ log π| against the rollout before the step.
+    fn learn(&mut self, batch: &[usize], ro: Rollout<'_>, lr: f64) -> (f64, f64, f64) {
         let c = &self.config.ppo;
         let (rows, l, na) = (self.rows, self.obs_len, self.n_actions);
         let hsz = self.model.hidden_size();
@@ -492,7 +503,9 @@ impl<E: Encoder> Trainer<E> {
         let logp = chosen_log_prob(log_probs.clone(), tensor2(one_hot, [bm * t_len, na], d));
         let ent = entropy(log_probs, mask).mean();
         let adv = tensor1(adv, d);
-        let ratio = (logp - tensor1(old_logp, d)).exp();
+        let delta = logp - tensor1(old_logp, d);
+        let replay_error = delta.clone().abs().mean().into_scalar::<f32>() as f64;
+        let ratio = delta.exp();
         let clipped = ratio.clone().clamp(1.0 - c.clip, 1.0 + c.clip);
         let policy_loss = (ratio * adv.clone()).min_pair(clipped * adv).mean().neg();
         let old_v = tensor1(old_v, d);
@@ -512,6 +525,7 @@ impl<E: Encoder> Trainer<E> {
         (
             policy_loss.into_scalar::<f32>() as f64,
             value_loss.into_scalar::<f32>() as f64,
+            replay_error,
         )
     }
 

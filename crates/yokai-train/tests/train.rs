@@ -102,7 +102,17 @@ fn same_seed_same_weights_and_the_value_loss_falls() {
     let run = |seed| {
         one_thread(|| {
             let mut t = Trainer::<MlpEncoder>::new(tiny(SymmetrySet::None, 12), seed).unwrap();
-            let losses: Vec<f64> = (0..12).map(|_| t.update().unwrap().value_loss).collect();
+            let losses: Vec<f64> = (0..12)
+                .map(|_| {
+                    let s = t.update().unwrap();
+                    assert!(
+                        s.replay_error < 1e-4,
+                        "learning replays the rollout's sequences: {}",
+                        s.replay_error
+                    );
+                    s.value_loss
+                })
+                .collect();
             (t.parameters(), losses)
         })
     };

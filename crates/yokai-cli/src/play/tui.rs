@@ -1,0 +1,237 @@
+//! The terminal UI of `yokai play` (ratatui + crossterm; works over SSH). All game logic
+//! lives in [`Session`]; this file only draws it and turns terminal events into keys.
+
+use super::session::{Effect, Key, Session};
+use ratatui::crossterm::event::{
+    self, DisableMouseCapture, EnableMouseCapture, Event, KeyCode, KeyEventKind, MouseEventKind,
+};
+use ratatui::crossterm::execute;
+use ratatui::layout::{Constraint, Direction, Layout};
+use ratatui::style::{Color, Modifier, Style};
+use ratatui::text::{Line, Span};
+use ratatui::widgets::{Block, Borders, List, ListItem, ListState, Paragraph, Wrap};
+use ratatui::Frame;
+use yokai_engine::{Cell, Colour, Game, HintSlot, Phase, Seat};
+
+pub fn run(session: &mut Session, color: bool) -> Result<(), String> {
+    let mut terminal = ratatui::init();
+    let _ = execute!(std::io::stdout(), EnableMouseCapture);
+    let result = event_loop(&mut terminal, session, color);
+    let _ = execute!(std::io::stdout(), DisableMouseCapture);
+    ratatui::restore();
+    result
+}
+
+fn event_loop(
+    terminal: &mut ratatui::DefaultTerminal,
+    session: &mut Session,
+    color: bool,
+) -> Result<(), String> {
+    let mut message = String::new();
+    loop {
+        terminal
+            .draw(|f| draw(f, session, color, &message))
+            .map_err(|e| format!("cannot draw: {e}"))?;
+        let key = match event::read().map_err(|e| format!("cannot read the terminal: {e}"))? {
+            Event::Key(k) if k.kind == KeyEventKind::Press => match k.code {
+                KeyCode::Up => Key::Up,
+                KeyCode::Down => Key::Down,
+                KeyCode::PageUp => Key::PageUp,
+                KeyCode::PageDown => Key::PageDown,
+                KeyCode::Enter => Key::Enter,
+                KeyCode::Esc => Key::Esc,
+                KeyCode::Char(c) => Key::Char(c),
+                _ => continue,
+            },
+            Event::Mouse(m) => match m.kind {
+                MouseEventKind::ScrollUp => Key::Up,
+                MouseEventKind::ScrollDown => Key::Down,
+                _ => continue,
+            },
+            _ => continue,
+        };
+        if session.is_over() && key != Key::Up && key != Key::Down {
+            return Ok(());
+        }
+        match session.handle(key) {
+            Ok(Effect::Quit) => return Ok(()),
+            Ok(_) => message.clear(),
+            Err(e) => message = e,
+        }
+    }
+}
+
+fn colour_style(colour: Colour, color: bool) -> Style {
+    if !color {
+        return Style::default().add_modifier(Modifier::BOLD);
+    }
+    Style::default().fg(match colour.index() {
+        0 => Color::Red,
+        1 => Color::Green,
+        2 => Color::Blue,
+        _ => Color::Yellow,
+    })
+}
+
+/// The grid as the viewer knows it (`None`: the true board).
+fn board(game: &Game, viewer: Option<Seat>, color: bool) -> Vec<Line<'static>> {
+    let g = game.config().grid();
+    let known = viewer.map_or(u32::MAX, |s| game.known_cards(s));
+    let mut lines = vec![Line::from(
+        std::iter::once("   ".to_string())
+            .chain((0..g).map(|c| format!("{c:<4}")))
+            .collect::<String>(),
+    )];
+    for r in 0..g {
+        let mut spans = vec![Span::raw(format!("{r:>2} "))];
+        for c in 0..g {
+            match game.card_at(Cell::new(r, c)) {
+                None => spans.push(Span::raw(".   ")),
+                Some(card) => {
+                    let hinted = game.is_hinted(card);
+                    let (text, mut style) = if known >> card.0 & 1 == 1 {
+                        let colour = game.colour_of(card);
+                        (
+                            format!("{}{}", colour.letter(), card.0),
+                            colour_style(colour, color),
+                        )
+                    } else {
+                        (format!("?{}", card.0), Style::default())
+                    };
+                    if hinted {
+                        style = style.add_modifier(Modifier::UNDERLINED);
+                    }
+                    let mark = if hinted { "*" } else { "" };
+                    spans.push(Span::styled(format!("{text}{mark}"), style));
+                    spans.push(Span::raw(
+                        " ".repeat(4usize.saturating_sub(text.len() + mark.len())),
+                    ));
+                }
+            }
+        }
+        lines.push(Line::from(spans));
+    }
+    lines.push(Line::raw(""));
+    for slot in 0..game.config().hints() {
+        let h = HintSlot(slot as u8);
+        let colours = match (viewer, game.revealed_hint(h)) {
+            (_, Some(set)) => set.letters(),
+            (None, None) => format!("({})", game.hint_colours(h).letters()),
+            (Some(_), None) => "face down".into(),
+        };
+        let on = game
+            .hint_card(h)
+            .map_or(String::new(), |c| format!(" on card {}", c.0));
+        lines.push(Line::raw(format!("hint {slot}: {colours}{on}")));
+    }
+    lines
+}
+
+fn draw(f: &mut Frame, session: &Session, color: bool, message: &str) {
+    let game = session.game();
+    let rows = Layout::default()
+        .direction(Direction::Vertical)
+        .constraints([
+            Constraint::Min(10),
+            Constraint::Length(8),
+            Constraint::Length(2),
+        ])
+        .split(f.area());
+    let top = Layout::default()
+        .direction(Direction::Horizontal)
+        .constraints([Constraint::Length(42), Constraint::Min(30)])
+        .split(rows[0]);
+    let viewer = session.viewer();
+    let status = match game.phase() {
+        Phase::Playing => format!(
+            "{} ({}) to play · substep {} · step {}",
+            game.current_seat(),
+            session.names()[game.current_seat().index()],
+            game.substep().index(),
+            game.steps()
+        ),
+        _ => "game over".into(),
+    };
+    let hidden = session.curtain();
+    let (title, lines) = if session.is_over() {
+        ("the true board".to_string(), board(game, None, color))
+    } else if hidden {
+        (
+            "hidden".to_string(),
+            vec![Line::raw(format!(
+                "{} must play next. Press Enter when only {} can see the screen.",
+                game.current_seat(),
+                game.current_seat()
+            ))],
+        )
+    } else {
+        (format!("{viewer}'s view"), board(game, Some(viewer), color))
+    };
+    f.render_widget(
+        Paragraph::new(lines).block(Block::default().borders(Borders::ALL).title(title)),
+        top[0],
+    );
+    if session.is_over() {
+        let text = match game.outcome() {
+            Some(o) => format!(
+                "Game over after {} steps.\n\nR = {}  ({})\nscore {}\ncorrect hints {}, wrong hints {}\nclustered colours {}\n\nPress any key to leave.",
+                o.length,
+                o.reward,
+                if o.won { "won" } else { "not won" },
+                o.score,
+                o.correct_hints,
+                o.wrong_hints,
+                o.clustered
+            ),
+            None => String::new(),
+        };
+        f.render_widget(
+            Paragraph::new(text).block(Block::default().borders(Borders::ALL).title("result")),
+            top[1],
+        );
+    } else {
+        let legal = if hidden { Vec::new() } else { session.legal() };
+        let items: Vec<ListItem> = legal.iter().map(|a| ListItem::new(a.to_string())).collect();
+        let mut state = ListState::default();
+        if !items.is_empty() {
+            state.select(Some(session.selected()));
+        }
+        let highlight = if color {
+            Style::default()
+                .bg(Color::DarkGray)
+                .add_modifier(Modifier::BOLD)
+        } else {
+            Style::default().add_modifier(Modifier::REVERSED)
+        };
+        f.render_stateful_widget(
+            List::new(items)
+                .block(
+                    Block::default()
+                        .borders(Borders::ALL)
+                        .title("legal actions (↑/↓, Enter; q quits)"),
+                )
+                .highlight_style(highlight)
+                .highlight_symbol("> "),
+            top[1],
+            &mut state,
+        );
+    }
+    let log = session.log();
+    let recent: Vec<Line> = log
+        .iter()
+        .skip(log.len().saturating_sub(6))
+        .map(|l| Line::raw(l.clone()))
+        .collect();
+    f.render_widget(
+        Paragraph::new(recent)
+            .wrap(Wrap { trim: true })
+            .block(Block::default().borders(Borders::ALL).title("last actions")),
+        rows[1],
+    );
+    let bottom = if message.is_empty() {
+        status
+    } else {
+        format!("{status} · {message}")
+    };
+    f.render_widget(Paragraph::new(bottom), rows[2]);
+}

@@ -1,0 +1,195 @@
+//! `yokai play`, `yokai replay` and `yokai train` from the outside.
+
+use std::io::Write;
+use std::path::PathBuf;
+use std::process::{Command, Output, Stdio};
+
+fn yokai(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_yokai"))
+        .args(args)
+        .output()
+        .expect("runs")
+}
+
+fn yokai_with_input(args: &[&str], input: &str) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_yokai"))
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("starts");
+    // The game may end before all input is read; a closed pipe is fine then.
+    let _ = child.stdin.take().unwrap().write_all(input.as_bytes());
+    child.wait_with_output().expect("finishes")
+}
+
+fn tempdir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("yokai-cli-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn text(o: &Output) -> String {
+    format!(
+        "{}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    )
+}
+
+#[test]
+fn scripted_line_mode_game_finishes_and_saves_a_replay_that_renders() {
+    let dir = tempdir("play");
+    let save = dir.join("game.jsonl");
+    // Observe card by name first, then always the first listed action (a game of both
+    // seats: the human's turns and the belief bot's in between), with one bad line.
+    let input = format!("observe card 4\nfoo\n999\n{}", "0\n".repeat(400));
+    let out = yokai_with_input(
+        &[
+            "play",
+            "--line",
+            "--seats",
+            "human,belief",
+            "--seed",
+            "3",
+            "--save",
+            save.to_str().unwrap(),
+        ],
+        &input,
+    );
+    let all = text(&out);
+    assert!(out.status.success(), "{all}");
+    assert!(all.contains("seat 0 (human): observe card 4"), "{all}");
+    assert!(all.contains("not one of the listed numbers"), "{all}");
+    assert!(
+        all.contains("type a listed number or an action's name"),
+        "{all}"
+    );
+    assert!(all.contains("game over after"), "{all}");
+    assert!(all.contains("seat 1 (belief):"), "the bot played: {all}");
+
+    // The replay renders one SVG per state, each with all 9 cards of the true board.
+    let svg_dir = dir.join("svg");
+    let out = yokai(&[
+        "replay",
+        save.to_str().unwrap(),
+        "--svg",
+        svg_dir.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", text(&out));
+    let steps = std::fs::read_to_string(&save)
+        .unwrap()
+        .lines()
+        .filter(|l| l.contains("\"type\":\"step\""))
+        .count();
+    let mut files: Vec<_> = std::fs::read_dir(&svg_dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    files.sort();
+    assert_eq!(files.len(), steps + 1);
+    for f in &files {
+        let svg = std::fs::read_to_string(f).unwrap();
+        assert_eq!(
+            svg.matches("class=\"card truth\"").count(),
+            9,
+            "{}",
+            f.display()
+        );
+    }
+    // Text mode prints every state.
+    let out = yokai(&["replay", save.to_str().unwrap(), "--seat", "1"]);
+    assert!(out.status.success());
+    assert_eq!(text(&out).matches("── 9c-2p-perfect").count(), steps + 1);
+}
+
+#[test]
+fn input_that_ends_too_early_and_bad_seats_are_clear_errors() {
+    let out = yokai_with_input(&["play", "--line", "--seats", "human,random"], "1\n");
+    assert!(!out.status.success());
+    assert!(text(&out).contains("input ended before the game finished"));
+    let out = yokai(&["play", "--line", "--seats", "human,wizard"]);
+    assert!(
+        text(&out).contains("unknown policy `wizard`"),
+        "{}",
+        text(&out)
+    );
+    let out = yokai(&["play", "--line", "--seats", "human,human,human"]);
+    assert!(text(&out).contains("3 seats given"), "{}", text(&out));
+}
+
+#[test]
+fn a_broken_replay_names_the_file_and_line() {
+    let dir = tempdir("broken");
+    let path = dir.join("bad.jsonl");
+    std::fs::write(&path, "{\"type\":\"step\"}\n").unwrap();
+    let out = yokai(&["replay", path.to_str().unwrap()]);
+    assert!(!out.status.success());
+    let t = text(&out);
+    assert!(t.contains("bad.jsonl") && t.contains("line 1"), "{t}");
+}
+
+#[test]
+fn train_then_eval_a_run_directory() {
+    let dir = tempdir("train");
+    let config = dir.join("tiny.toml");
+    std::fs::write(
+        &config,
+        "game = \"9c-2p-perfect\"\n[network]\npreset = \"compact\"\nhidden = 16\n\
+         [ppo]\nnum_envs = 8\nrollout_steps = 8\nminibatches = 2\nepochs = 1\ntotal_steps = 128\n",
+    )
+    .unwrap();
+    let out_dir = dir.join("runs");
+    let out = yokai(&[
+        "train",
+        config.to_str().unwrap(),
+        "--seeds",
+        "0..2",
+        "--out",
+        out_dir.to_str().unwrap(),
+        "--eval-games",
+        "40",
+        "--threads",
+        "1",
+    ]);
+    let t = text(&out);
+    assert!(out.status.success(), "{t}");
+    assert!(t.contains("## Paper table (2 seeds"), "{t}");
+    assert!(out_dir.join("seed-1/policy.ykp").exists());
+    assert!(out_dir.join("eval/report.md").exists());
+    let replays = out_dir.join("eval/replays");
+    assert!(
+        std::fs::read_dir(&replays).unwrap().count() >= 2,
+        "self-play replays saved"
+    );
+
+    // A trained policy carries its game: another config is refused, clearly.
+    let run = out_dir.join("seed-0");
+    let out = yokai(&["eval", run.to_str().unwrap(), "--config", "9c-3p-perfect"]);
+    let t = text(&out);
+    assert!(!out.status.success());
+    assert!(
+        t.contains("was trained on 9c-2p-perfect, not on 9c-3p-perfect"),
+        "{t}"
+    );
+    // And a run directory plays against the built-in bots.
+    let out = yokai(&["eval", run.to_str().unwrap(), "random", "--games", "20"]);
+    assert!(out.status.success(), "{}", text(&out));
+    // Starting the same run again is refused; --resume with nothing left to do is fine.
+    let args = [
+        "train",
+        config.to_str().unwrap(),
+        "--seeds",
+        "0",
+        "--out",
+        out_dir.to_str().unwrap(),
+        "--eval-games",
+        "0",
+    ];
+    let out = yokai(&args);
+    assert!(text(&out).contains("already holds a run"), "{}", text(&out));
+    let out = yokai(&[&args[..], &["--resume"]].concat());
+    assert!(out.status.success(), "{}", text(&out));
+}
