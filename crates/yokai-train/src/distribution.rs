@@ -4,12 +4,21 @@
 use burn::prelude::*;
 use burn::tensor::activation::log_softmax;
 
-/// Added to the logits of illegal actions. Finite (not −∞) so that `p · log p` is 0, not NaN.
-const ILLEGAL: f32 = -1e9;
+/// How far below the row's best legal logit an illegal action's logit is put: its
+/// probability is then below e⁻⁶⁰ (with ~760 actions, a total leak under 10⁻²³, far below
+/// f32 resolution), while `exp` stays in the normal range. Pushing illegal logits to
+/// −10⁹ instead gives the same numbers but sends every illegal entry through libm's slow
+/// underflow path, which measured as a fifth of the CPU training time.
+const ILLEGAL_GAP: f32 = 60.0;
 
 /// Log-probabilities `[B, N_a]` from logits and a 0/1 legal mask of the same shape.
 pub fn masked_log_softmax(logits: Tensor<2>, mask: Tensor<2>) -> Tensor<2> {
-    log_softmax(logits + (mask - 1.0) * (-ILLEGAL), 1)
+    let best_legal = (logits.clone() + (mask.clone() - 1.0) * 1e9)
+        .max_dim(1)
+        .detach();
+    let floor = best_legal - ILLEGAL_GAP;
+    let illegal = mask.clone().neg() + 1.0;
+    log_softmax(logits * mask + illegal * floor, 1)
 }
 
 /// Entropy `[B]` of each row's distribution over its legal actions.
@@ -86,7 +95,7 @@ mod tests {
         let v = lp.to_data().try_into_vec::<f32>().unwrap();
         assert!((v[0] - 0.25f32.ln()).abs() < 1e-5);
         assert!((v[1] - 0.75f32.ln()).abs() < 1e-5);
-        assert!(v[2] < -1e8);
+        assert!(v[2] < -50.0);
         assert!(v[5].abs() < 1e-6);
         let h = entropy(lp.clone(), mask)
             .into_data()

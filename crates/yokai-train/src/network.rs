@@ -191,9 +191,21 @@ impl<E: Encoder> ActorCritic<E> {
         (self.heads(h.clone()), h)
     }
 
+    /// Action logits `[rows, N_a]` from GRU states.
+    pub fn policy_logits(&self, states: Tensor<2>) -> Tensor<2> {
+        self.actor.forward(states)
+    }
+
+    /// State values `[rows]` from GRU states.
+    pub fn values(&self, states: Tensor<2>) -> Tensor<1> {
+        self.critic.forward(states).squeeze_dim(1)
+    }
+
     /// Unroll `T` steps for `B` sequences: observations `[B, T, L]`, initial states
-    /// `[B, H]`, `keep` `[B, T]`. Outputs are in `(b, t)` row-major order (`B·T` rows).
-    pub fn unroll(&self, obs: Tensor<3>, h0: Tensor<2>, keep: Tensor<2>) -> Output {
+    /// `[B, H]`, `keep` `[B, T]`. Returns the GRU state after every step, `[B·T, H]` in
+    /// `(b, t)` row-major order; the heads are applied by the caller, so that the actor
+    /// head can skip rows with a single legal action.
+    pub fn unroll(&self, obs: Tensor<3>, h0: Tensor<2>, keep: Tensor<2>) -> Tensor<2> {
         let [b, t, l] = obs.dims();
         let gx = self
             .input_projection(obs.reshape([b * t, l]))
@@ -207,6 +219,6 @@ impl<E: Encoder> ActorCritic<E> {
             states.push(h.clone());
         }
         let all: Tensor<3> = Tensor::stack(states, 1);
-        self.heads(all.reshape([b * t, self.hidden]))
+        all.reshape([b * t, self.hidden])
     }
 }

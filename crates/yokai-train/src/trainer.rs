@@ -93,6 +93,9 @@ pub struct UpdateStats {
     /// value means the recurrent state or the batch layout differs between acting and
     /// learning.
     pub replay_error: f64,
+    /// Seconds spent acting (rollout) and learning (epochs) in this update.
+    pub rollout_seconds: f64,
+    pub learn_seconds: f64,
 }
 
 /// A training run of one seed, in memory.
@@ -393,6 +396,7 @@ impl<E: Encoder> Trainer<E> {
             c.gae_lambda,
         );
 
+        let rollout_seconds = start.elapsed().as_secs_f64();
         // --- learning ---
         let mb = rows / c.minibatches;
         let (mut pl_sum, mut vl_sum, mut count) = (0f64, 0f64, 0u64);
@@ -451,6 +455,8 @@ impl<E: Encoder> Trainer<E> {
             lr,
             shaping,
             replay_error,
+            rollout_seconds,
+            learn_seconds: secs - rollout_seconds,
         })
     }
 
@@ -485,6 +491,18 @@ impl<E: Encoder> Trainer<E> {
                 ret.push(ro.returns[i]);
             }
         }
+        // Rows with one legal action (seats waiting for their turn, or a forced NOOP) carry
+        // no policy gradient: the actor head, the policy loss and the entropy skip them.
+        let choosing: Vec<usize> = (0..bm * t_len)
+            .filter(|&k| masks[k * na..][..na].iter().filter(|&&m| m > 0.5).count() > 1)
+            .collect();
+        let pick = |v: &[f32], width: usize| -> Vec<f32> {
+            choosing
+                .iter()
+                .flat_map(|&k| v[k * width..][..width].iter().copied())
+                .collect()
+        };
+        let mut adv = pick(&adv, 1);
         if c.normalize_advantages && adv.len() > 1 {
             let mean = adv.iter().sum::<f32>() / adv.len() as f32;
             let var = adv.iter().map(|a| (a - mean).powi(2)).sum::<f32>() / adv.len() as f32;
@@ -493,30 +511,40 @@ impl<E: Encoder> Trainer<E> {
         }
         let d = &self.device;
         let obs: Tensor<3> = Tensor::from_data(TensorData::new(obs, [bm, t_len, l]), d);
-        let out = self.model.unroll(
+        let states = self.model.unroll(
             obs,
             tensor2(h0, [bm, hsz], d),
             tensor2(keep, [bm, t_len], d),
         );
-        let mask = tensor2(masks, [bm * t_len, na], d);
-        let log_probs = masked_log_softmax(out.logits, mask.clone());
-        let logp = chosen_log_prob(log_probs.clone(), tensor2(one_hot, [bm * t_len, na], d));
-        let ent = entropy(log_probs, mask).mean();
-        let adv = tensor1(adv, d);
-        let delta = logp - tensor1(old_logp, d);
-        let replay_error = delta.clone().abs().mean().into_scalar::<f32>() as f64;
-        let ratio = delta.exp();
-        let clipped = ratio.clone().clamp(1.0 - c.clip, 1.0 + c.clip);
-        let policy_loss = (ratio * adv.clone()).min_pair(clipped * adv).mean().neg();
         let old_v = tensor1(old_v, d);
         let ret = tensor1(ret, d);
-        let v = out.values;
+        let v = self.model.values(states.clone());
         let v_clipped = old_v.clone() + (v.clone() - old_v).clamp(-c.value_clip, c.value_clip);
         let value_loss = (v - ret.clone())
             .square()
             .max_pair((v_clipped - ret).square())
             .mean()
             * 0.5;
+        let n = choosing.len();
+        let (policy_loss, ent, replay_error) = if n == 0 {
+            let zero = Tensor::<1>::zeros([1], d).sum();
+            (zero.clone(), zero, 0.0)
+        } else {
+            let idx: Vec<i64> = choosing.iter().map(|&k| k as i64).collect();
+            let idx = Tensor::<1, Int>::from_data(TensorData::new(idx, [n]), d);
+            let logits = self.model.policy_logits(states.select(0, idx));
+            let mask = tensor2(pick(&masks, na), [n, na], d);
+            let log_probs = masked_log_softmax(logits, mask.clone());
+            let logp = chosen_log_prob(log_probs.clone(), tensor2(pick(&one_hot, na), [n, na], d));
+            let ent = entropy(log_probs, mask).mean();
+            let adv = tensor1(adv, d);
+            let delta = logp - tensor1(pick(&old_logp, 1), d);
+            let replay_error = delta.clone().abs().mean().into_scalar::<f32>() as f64;
+            let ratio = delta.exp();
+            let clipped = ratio.clone().clamp(1.0 - c.clip, 1.0 + c.clip);
+            let policy_loss = (ratio * adv.clone()).min_pair(clipped * adv).mean().neg();
+            (policy_loss, ent, replay_error)
+        };
         let loss = policy_loss.clone() + value_loss.clone() * c.value_coef - ent * c.entropy_coef;
         let mut grads = GradientsParams::from_grads(loss.backward(), &self.model);
         clip_global_norm(&self.model, &mut grads, c.max_grad_norm);
