@@ -302,3 +302,63 @@ fn policy_names_parse_and_bad_ones_say_why() {
     assert!(err("belief:continue_win=2").contains("probability"));
     assert!(err("belief:continue_win").contains("name:key=value"));
 }
+
+/// Ends the game whenever it may.
+struct Ender;
+/// Never ends: always the first legal action that is not END.
+struct Stayer;
+
+impl Policy for Ender {
+    fn name(&self) -> String {
+        "ender".into()
+    }
+    fn reset(&mut self, _: u64) {}
+    fn act(&mut self, view: &yokai_engine::SeatView<'_>) -> Action {
+        let legal = view.legal_actions();
+        if legal.contains(&Action::End) {
+            Action::End
+        } else {
+            legal[0]
+        }
+    }
+}
+
+impl Policy for Stayer {
+    fn name(&self) -> String {
+        "stayer".into()
+    }
+    fn reset(&mut self, _: u64) {}
+    fn act(&mut self, view: &yokai_engine::SeatView<'_>) -> Action {
+        *view
+            .legal_actions()
+            .iter()
+            .find(|a| **a != Action::End)
+            .expect("a turn always has a non-END action")
+    }
+}
+
+#[test]
+fn cross_play_averages_over_seatings_with_known_outcomes() {
+    // Ender in seat 0 ends at once (1 step); Stayer in seat 0 plays its 4-substep turn and
+    // Ender ends at the 5th step. Over both seatings: LEN 3, every game ended early.
+    let config = Config::from_name("9c-2p-perfect").unwrap();
+    let ender = |_: u64| Box::new(Ender) as Box<dyn Policy>;
+    let stayer = |_: u64| Box::new(Stayer) as Box<dyn Policy>;
+    let factories: [&yokai_agents::eval::PolicyFactory<'_>; 2] = [&ender, &stayer];
+    let seatings = yokai_agents::eval::seatings(&[0, 1], 2);
+    assert_eq!(seatings, vec![vec![0, 1], vec![1, 0]]);
+    let mut total = yokai_engine::MetricsAccumulator::default();
+    let mut lengths = Vec::new();
+    for seating in &seatings {
+        let seats: Vec<&yokai_agents::eval::PolicyFactory<'_>> =
+            seating.iter().map(|&k| factories[k]).collect();
+        let part = yokai_agents::eval::play_group(config, &seats, 100, 5, &|_| {}).unwrap();
+        lengths.push(part.metrics().unwrap().length);
+        total.merge(&part);
+    }
+    assert_eq!(lengths, vec![1.0, 5.0]);
+    let m = total.metrics().unwrap();
+    assert_eq!(m.games, 200);
+    assert_eq!(m.length, 3.0);
+    assert_eq!(m.early_end, 1.0);
+}

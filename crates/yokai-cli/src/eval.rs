@@ -1,5 +1,7 @@
 //! `yokai eval`: self-play and cross-play of policies, averaged over seat permutations.
 
+use crate::plots;
+use crate::summary::{paper_rows, summarise, table_row, EvalSummary, GroupSummary, TABLE_HEAD};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
 use yokai_agents::eval::{play_group, seatings, PolicyFactory};
@@ -65,7 +67,7 @@ impl Entry {
     pub fn name(&self) -> String {
         match self {
             Entry::Builtin(spec) => spec.to_string(),
-            Entry::Trained(p) => p.path().display().to_string(),
+            Entry::Trained(p) => run_dir_of(p.path()).display().to_string(),
         }
     }
 
@@ -89,12 +91,84 @@ impl Entry {
     }
 }
 
+/// Expand the policy arguments: a quoted glob in the last path component
+/// (`runs/op/seed-*`), or a method directory holding `seed-N` runs, becomes every matching
+/// run; anything else is passed through.
+pub fn expand(args: &[String]) -> Result<Vec<String>, String> {
+    let mut out = Vec::new();
+    for arg in args {
+        let path = Path::new(arg);
+        let is_run = |p: &Path| {
+            p.join(yokai_train::run::POLICY).exists()
+                || p.join(yokai_train::run::CHECKPOINT).exists()
+        };
+        let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("");
+        let (dir, pattern) = if name.contains('*') {
+            (path.parent().unwrap_or(Path::new(".")), Some(name))
+        } else if path.is_dir() && !is_run(path) {
+            (path, None)
+        } else {
+            out.push(arg.clone());
+            continue;
+        };
+        let dir = if dir.as_os_str().is_empty() {
+            Path::new(".")
+        } else {
+            dir
+        };
+        let mut found: Vec<PathBuf> = std::fs::read_dir(dir)
+            .map_err(|e| format!("cannot list {}: {e}", dir.display()))?
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| {
+                let n = p.file_name().and_then(|n| n.to_str()).unwrap_or("");
+                match pattern {
+                    Some(pat) => glob_match(pat, n),
+                    None => p.is_dir() && is_run(p),
+                }
+            })
+            .collect();
+        if found.is_empty() {
+            return Err(format!("`{arg}` matches no policy file or run directory"));
+        }
+        // seed-2 before seed-10.
+        found.sort_by_key(|p| {
+            let n = p
+                .file_name()
+                .and_then(|n| n.to_str())
+                .unwrap_or("")
+                .to_string();
+            let digits: String = n.chars().filter(|c| c.is_ascii_digit()).collect();
+            (
+                n.trim_end_matches(|c: char| c.is_ascii_digit()).to_string(),
+                digits.parse::<u64>().unwrap_or(0),
+                n,
+            )
+        });
+        out.extend(found.into_iter().map(|p| p.display().to_string()));
+    }
+    Ok(out)
+}
+
+/// `*` matches any run of characters; everything else matches itself.
+fn glob_match(pattern: &str, name: &str) -> bool {
+    match pattern.split_once('*') {
+        None => pattern == name,
+        Some((head, tail)) => {
+            let Some(rest) = name.strip_prefix(head) else {
+                return false;
+            };
+            (0..=rest.len())
+                .filter(|&i| rest.is_char_boundary(i))
+                .any(|i| glob_match(tail, &rest[i..]))
+        }
+    }
+}
+
 pub fn run(args: Args) -> Result<(), String> {
     if args.games == 0 {
         return Err("--games must be at least 1".into());
     }
-    let entries = args
-        .policies
+    let entries = expand(&args.policies)?
         .iter()
         .map(|p| Entry::parse(p))
         .collect::<Result<Vec<_>, _>>()?;
@@ -112,26 +186,28 @@ pub fn run(args: Args) -> Result<(), String> {
     };
     let names: Vec<String> = entries.iter().map(Entry::name).collect();
     let cells = evaluate(&config, &entries, args.games, args.seed, args.threads)?;
-    let trained: Vec<usize> = (0..entries.len())
-        .filter(|&i| matches!(entries[i], Entry::Trained(_)))
-        .collect();
-    let seeds = (trained.len() >= 2).then_some(trained.as_slice());
-    let report = report(&config, &names, &cells, args.games, seeds);
-    print!("{report}");
-    if let Some(dir) = args.out {
-        write_outputs(&dir, &names, &cells, &report)?;
-        if args.replays > 0 {
-            let pairs: Vec<(usize, usize)> = cells.iter().map(|c| (c.row, c.col)).collect();
-            save_replays(
-                &config,
-                &entries,
-                &pairs,
-                args.replays,
-                args.seed,
-                &dir.join("replays"),
-            )?;
+    let groups = summarise_groups(&entries, &names, &cells);
+    match args.out {
+        None => print!(
+            "{}",
+            report(&config, &names, &cells, args.games, &groups, &[])
+        ),
+        Some(dir) => {
+            let text = write_outputs(&dir, &config, &entries, &cells, args.games, &groups)?;
+            print!("{text}");
+            if args.replays > 0 {
+                let pairs: Vec<(usize, usize)> = cells.iter().map(|c| (c.row, c.col)).collect();
+                save_replays(
+                    &config,
+                    &entries,
+                    &pairs,
+                    args.replays,
+                    args.seed,
+                    &dir.join("replays"),
+                )?;
+            }
+            eprintln!("wrote {}", dir.display());
         }
-        eprintln!("wrote {}", dir.display());
     }
     Ok(())
 }
@@ -250,56 +326,44 @@ fn row_of(m: &Metrics) -> String {
     )
 }
 
-/// The Markdown report: self-play of each policy, then the cross-play matrix of R.
-/// Mean and standard error over a set of per-seed values.
-fn mean_se(xs: &[f64]) -> (f64, f64) {
-    let n = xs.len() as f64;
-    let mean = xs.iter().sum::<f64>() / n;
-    if xs.len() < 2 {
-        return (mean, 0.0);
+/// Trained policies grouped by method: seeds are run directories `METHOD/seed-N`, so the
+/// group is the parent directory. Each group becomes one row of the paper's table.
+pub fn groups_of(entries: &[Entry]) -> Vec<(String, Vec<usize>)> {
+    let mut groups: Vec<(String, Vec<usize>)> = Vec::new();
+    for (i, e) in entries.iter().enumerate() {
+        let Entry::Trained(p) = e else { continue };
+        let run = run_dir_of(p.path());
+        let method = run
+            .parent()
+            .map(|d| d.display().to_string())
+            .filter(|d| !d.is_empty())
+            .unwrap_or_else(|| run.display().to_string());
+        match groups.iter_mut().find(|(m, _)| *m == method) {
+            Some((_, members)) => members.push(i),
+            None => groups.push((method, vec![i])),
+        }
     }
-    let var = xs.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0);
-    (mean, (var / n).sqrt())
+    groups
 }
 
-/// The paper's table row for a group of seeds of one algorithm: SP over the diagonal,
-/// XP over the pairs of different seeds, each as mean ± SE over those entries.
-pub fn paper_table(names: &[String], cells: &[Cell], group: &[usize]) -> String {
-    let sp: Vec<&Metrics> = cells
-        .iter()
-        .filter(|c| c.row == c.col && group.contains(&c.row))
-        .map(|c| &c.metrics)
-        .collect();
-    let xp: Vec<&Metrics> = cells
-        .iter()
-        .filter(|c| c.row != c.col && group.contains(&c.row) && group.contains(&c.col))
-        .map(|c| &c.metrics)
-        .collect();
-    let fmt = |ms: &[&Metrics], f: &dyn Fn(&Metrics) -> f64, scale: f64| {
-        if ms.is_empty() {
-            return "–".to_string();
+/// The run directory of a policy file or checkpoint inside one (else the file itself).
+fn run_dir_of(path: &Path) -> PathBuf {
+    match path.file_name().and_then(|f| f.to_str()) {
+        Some(yokai_train::run::POLICY) | Some(yokai_train::run::CHECKPOINT) => {
+            path.parent().map_or(path.to_path_buf(), Path::to_path_buf)
         }
-        let (m, se) = mean_se(&ms.iter().map(|m| f(m) * scale).collect::<Vec<_>>());
-        format!("{m:.2} ± {se:.2}")
-    };
-    let mut out = format!(
-        "## Paper table ({} seeds; mean ± SE over seeds for SP, over pairs of seeds for XP)\n\n\
-         | seeds | SP R | SP SEE % | SP LEN | XP R | XP SEE % | XP EE % | XP LEN |\n|---|---|---|---|---|---|---|---|\n",
-        group.len()
-    );
-    let label: Vec<&str> = group.iter().map(|&i| names[i].as_str()).collect();
-    out += &format!(
-        "| {} | {} | {} | {} | {} | {} | {} | {} |\n",
-        label.join(", "),
-        fmt(&sp, &|m| m.reward, 1.0),
-        fmt(&sp, &|m| m.successful_early_end, 100.0),
-        fmt(&sp, &|m| m.length, 1.0),
-        fmt(&xp, &|m| m.reward, 1.0),
-        fmt(&xp, &|m| m.successful_early_end, 100.0),
-        fmt(&xp, &|m| m.early_end, 100.0),
-        fmt(&xp, &|m| m.length, 1.0),
-    );
-    out
+        _ => path.to_path_buf(),
+    }
+}
+
+/// The paper's table for the groups of trained seeds in an evaluation.
+pub fn summarise_groups(entries: &[Entry], names: &[String], cells: &[Cell]) -> Vec<GroupSummary> {
+    let flat: Vec<(usize, usize, Metrics)> =
+        cells.iter().map(|c| (c.row, c.col, c.metrics)).collect();
+    groups_of(entries)
+        .iter()
+        .map(|(method, members)| summarise(method, names, &flat, members))
+        .collect()
 }
 
 pub fn report(
@@ -307,14 +371,24 @@ pub fn report(
     names: &[String],
     cells: &[Cell],
     games: u64,
-    seeds: Option<&[usize]>,
+    groups: &[GroupSummary],
+    pictures: &[(&str, &str)],
 ) -> String {
     let mut out = format!(
         "# Evaluation on {config}\n\n{games} games per pair, averaged over seat permutations.\n\n"
     );
-    if let Some(group) = seeds.filter(|g| !g.is_empty()) {
-        out += &paper_table(names, cells, group);
+    if !groups.is_empty() {
+        out += "## Paper table\n\nMean ± standard error over seeds (SP: each seed with itself; XP: every pair of \
+                different seeds of a method). Shares in %.\n\n";
+        out += TABLE_HEAD;
+        for g in groups {
+            out += &table_row(g);
+        }
+        out += &paper_rows(&config.to_string());
         out += "\n";
+    }
+    for (title, file) in pictures {
+        out += &format!("![{title}]({file})\n\n");
     }
     out += "## Self-play\n\n| policy | R | win % | SEE % | EE % | WEE % | LEN |\n|---|---|---|---|---|---|---|\n";
     for c in cells.iter().filter(|c| c.row == c.col) {
@@ -353,17 +427,92 @@ pub fn report(
     out
 }
 
+/// Write report.md (with pictures), matrix.csv, matrix.json, summary.json, the XP heatmap
+/// and, for trained runs, their learning curves into `dir`; returns the report.
 pub fn write_outputs(
     dir: &Path,
-    names: &[String],
+    config: &Config,
+    entries: &[Entry],
     cells: &[Cell],
-    report: &str,
-) -> Result<(), String> {
+    games: u64,
+    groups: &[GroupSummary],
+) -> Result<String, String> {
+    let names: Vec<String> = entries.iter().map(Entry::name).collect();
+    let names = &names;
     std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
     let write = |file: &str, text: String| {
         let path = dir.join(file);
         std::fs::write(&path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))
     };
+    let mut pictures = Vec::new();
+    let n = names.len();
+    let mut matrix = vec![vec![0.0; n]; n];
+    for c in cells {
+        matrix[c.row][c.col] = c.metrics.reward;
+        matrix[c.col][c.row] = c.metrics.reward;
+    }
+    plots::write_both(
+        dir,
+        "xp_heatmap",
+        &plots::heatmap_svg(
+            &format!("R of each pair on {config} (diagonal: self-play)"),
+            names,
+            &matrix,
+        ),
+    )?;
+    pictures.push(("cross-play heatmap", "xp_heatmap.png"));
+    let runs: Vec<(String, PathBuf)> = entries
+        .iter()
+        .filter_map(|e| match e {
+            Entry::Trained(p) => Some((e.name(), run_dir_of(p.path()))),
+            Entry::Builtin(_) => None,
+        })
+        .filter(|(_, d)| d.join(yokai_train::run::METRICS).exists())
+        .collect();
+    if !runs.is_empty() {
+        let mut ret = Vec::new();
+        let mut see = Vec::new();
+        for (name, run) in &runs {
+            let log = yokai_train::read_metrics(run).map_err(|e| e.to_string())?;
+            let points = |f: &dyn Fn(&yokai_engine::Metrics) -> f64| {
+                let raw: Vec<(f64, f64)> = log
+                    .iter()
+                    .filter_map(|s| s.games.map(|m| (s.env_steps as f64, f(&m))))
+                    .collect();
+                plots::smooth(&raw, (raw.len() / 25).max(1))
+            };
+            ret.push(plots::Series {
+                label: name.clone(),
+                points: points(&|m| m.reward),
+            });
+            see.push(plots::Series {
+                label: name.clone(),
+                points: points(&|m| 100.0 * m.successful_early_end),
+            });
+        }
+        plots::write_both(
+            dir,
+            "learning_return",
+            &plots::lines_svg("Return R during training (no shaping)", "R", &ret),
+        )?;
+        plots::write_both(
+            dir,
+            "learning_see",
+            &plots::lines_svg("SEE during training", "SEE %", &see),
+        )?;
+        pictures.push(("learning curves: return", "learning_return.png"));
+        pictures.push(("learning curves: SEE", "learning_see.png"));
+    }
+    let report = report(config, names, cells, games, groups, &pictures);
+    let summary = EvalSummary {
+        game: config.to_string(),
+        games_per_pair: games,
+        groups: groups.to_vec(),
+    };
+    write(
+        "summary.json",
+        serde_json::to_string_pretty(&summary).expect("summary serialises"),
+    )?;
     write("report.md", report.to_string())?;
     let mut csv = String::from(
         "row,col,games,reward,reward_se,win_rate,see,ee,wee,length,correct_hints,wrong_hints\n",
@@ -397,5 +546,6 @@ pub fn write_outputs(
     write(
         "matrix.json",
         serde_json::to_string_pretty(&json).expect("metrics serialize"),
-    )
+    )?;
+    Ok(report)
 }

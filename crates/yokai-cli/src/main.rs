@@ -1,10 +1,13 @@
 //! `yokai`: the command-line front end of the Yōkai Learning Environment.
 
 mod bench;
+mod compare;
 mod eval;
 mod play;
+mod plots;
 mod random;
 mod replay;
+mod summary;
 mod svg;
 mod train;
 
@@ -42,6 +45,9 @@ enum Command {
     Play(play::Args),
     /// Step through a replay file, or render each turn as SVG/PNG pictures.
     Replay(replay::Args),
+    /// Put several evaluations side by side in the paper's table (e.g. IPPO vs HE vs OP),
+    /// with the paper's numbers as reference rows where the game matches.
+    Compare(compare::Args),
     /// Show one game's deal and the board as text (ground truth).
     Show(random::ShowArgs),
 }
@@ -55,6 +61,7 @@ fn main() -> ExitCode {
         Command::Eval(args) => eval::run(args),
         Command::Train(args) => train::run(args),
         Command::Play(args) => play::run(args),
+        Command::Compare(args) => compare::run(args),
         Command::Replay(args) => replay::run(args),
     };
     match result {

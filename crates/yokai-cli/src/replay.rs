@@ -80,8 +80,9 @@ pub fn run(args: Args) -> Result<(), String> {
             let bytes = if kind == "svg" {
                 svg.into_bytes()
             } else {
-                let db = fonts.get_or_insert_with(|| std::sync::Arc::new(system_fonts()));
-                png(&svg, db.clone())?
+                let db =
+                    fonts.get_or_insert_with(|| std::sync::Arc::new(crate::plots::system_fonts()));
+                crate::plots::png(&svg, db.clone())?
             };
             std::fs::write(&path, bytes)
                 .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
@@ -126,45 +127,4 @@ pub fn run(args: Args) -> Result<(), String> {
         }
     }
     Ok(())
-}
-
-/// The system's fonts, with `sans-serif` mapped to a sans face that exists (fontdb maps
-/// it to Arial, which Linux machines rarely have). Without any font, PNGs have no text.
-fn system_fonts() -> resvg::usvg::fontdb::Database {
-    let mut db = resvg::usvg::fontdb::Database::new();
-    db.load_system_fonts();
-    let families: Vec<String> = db
-        .faces()
-        .filter_map(|f| f.families.first().map(|(name, _)| name.clone()))
-        .collect();
-    match families
-        .iter()
-        .find(|f| f.contains("Sans") && !f.contains("Mono"))
-        .or(families.first())
-    {
-        Some(family) => db.set_sans_serif_family(family.clone()),
-        None => eprintln!(
-            "warning: no system font found, so the PNG pictures have no text \
-             (install e.g. fonts-dejavu-core, or use --svg)"
-        ),
-    }
-    db
-}
-
-/// Rasterise an SVG picture to PNG bytes.
-fn png(svg: &str, fonts: std::sync::Arc<resvg::usvg::fontdb::Database>) -> Result<Vec<u8>, String> {
-    let options = resvg::usvg::Options {
-        fontdb: fonts,
-        ..Default::default()
-    };
-    let tree = resvg::usvg::Tree::from_str(svg, &options).map_err(|e| format!("svg: {e}"))?;
-    let size = tree.size().to_int_size();
-    let mut pixmap = resvg::tiny_skia::Pixmap::new(size.width(), size.height())
-        .ok_or("the picture has no area")?;
-    resvg::render(
-        &tree,
-        resvg::tiny_skia::Transform::default(),
-        &mut pixmap.as_mut(),
-    );
-    pixmap.encode_png().map_err(|e| format!("png: {e}"))
 }

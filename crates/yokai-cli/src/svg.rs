@@ -5,6 +5,7 @@
 //! Every card is one `<rect class="card …" data-card="ID" data-colour="NAME">` element, so
 //! pictures can be checked (and styled) by machines as well as read by people.
 
+use crate::plots::escape;
 use std::fmt::Write;
 use yokai_engine::{Action, Cell, Colour, Game, HintSlot, Seat};
 
@@ -20,12 +21,6 @@ fn fill(colour: Option<Colour>) -> &'static str {
         Some(3) => "#e6b800",
         _ => "#b0b0b0",
     }
-}
-
-fn escape(text: &str) -> String {
-    text.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
 }
 
 /// Whose knowledge a board panel shows.

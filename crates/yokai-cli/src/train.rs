@@ -1,6 +1,6 @@
 //! `yokai train`: train seeds of a config, then evaluate them against each other.
 
-use crate::eval::{evaluate, report, save_replays, write_outputs, Entry};
+use crate::eval::{evaluate, save_replays, summarise_groups, write_outputs, Entry};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
 use yokai_agents::PolicySpec;
@@ -200,11 +200,11 @@ pub fn run(args: Args) -> Result<(), String> {
         args.eval_games
     );
     let cells = evaluate(&game, &entries, args.eval_games, 0, args.threads)?;
-    let group: Vec<usize> = (0..dirs.len()).collect();
-    let text = report(&game, &names, &cells, args.eval_games, Some(&group));
-    print!("{text}");
+    let groups = summarise_groups(&entries, &names, &cells);
     let eval_dir = out.join("eval");
-    write_outputs(&eval_dir, &names, &cells, &text)?;
+    let text = write_outputs(&eval_dir, &game, &entries, &cells, args.eval_games, &groups)?;
+    print!("{text}");
+    let group: Vec<usize> = (0..dirs.len()).collect();
     // Two self-play games of every seed, to look at with `yokai replay`.
     let selfplay: Vec<(usize, usize)> = group.iter().map(|&i| (i, i)).collect();
     save_replays(&game, &entries, &selfplay, 2, 0, &eval_dir.join("replays"))?;

@@ -156,10 +156,52 @@ fn train_then_eval_a_run_directory() {
     ]);
     let t = text(&out);
     assert!(out.status.success(), "{t}");
-    assert!(t.contains("## Paper table (2 seeds"), "{t}");
+    assert!(t.contains("## Paper table"), "{t}");
+    assert!(
+        t.contains(&format!("| {} | 2 |", out_dir.display())),
+        "one row for the method, two seeds: {t}"
+    );
+    assert!(
+        t.contains("| paper: OP | 12 | 6.6 |"),
+        "paper reference rows: {t}"
+    );
     assert!(out_dir.join("seed-1/policy.ykp").exists());
-    assert!(out_dir.join("eval/report.md").exists());
-    let replays = out_dir.join("eval/replays");
+    let eval = out_dir.join("eval");
+    let report = std::fs::read_to_string(eval.join("report.md")).unwrap();
+    assert!(
+        report.contains("![cross-play heatmap](xp_heatmap.png)"),
+        "{report}"
+    );
+    // The heatmap decodes as an image of the expected size: 3 policies (2 seeds + random).
+    let png = std::fs::read(eval.join("xp_heatmap.png")).unwrap();
+    let image = resvg::tiny_skia::Pixmap::decode_png(&png).unwrap();
+    assert_eq!(
+        (image.width(), image.height()),
+        (170 + 3 * 64 + 20, 60 + 3 * 64 + 170)
+    );
+    let curves = std::fs::read_to_string(eval.join("learning_return.svg")).unwrap();
+    assert_eq!(
+        curves.matches("class=\"series\"").count(),
+        2,
+        "one line per seed"
+    );
+    assert!(eval.join("learning_see.png").exists());
+
+    // compare reads the summary; a quoted glob and a method directory both expand to seeds.
+    let out = yokai(&["compare", eval.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", text(&out));
+    assert!(text(&out).contains(&format!("| {} | 2 |", out_dir.display())));
+    let glob = format!("{}/seed-*", out_dir.display());
+    for arg in [glob.as_str(), out_dir.to_str().unwrap()] {
+        let out = yokai(&["eval", arg, "--games", "10"]);
+        let t = text(&out);
+        assert!(out.status.success(), "{t}");
+        assert!(
+            t.contains("seed-0 + ") && t.contains("seed-1 |"),
+            "{arg}: {t}"
+        );
+    }
+    let replays = eval.join("replays");
     assert!(
         std::fs::read_dir(&replays).unwrap().count() >= 2,
         "self-play replays saved"

@@ -1,0 +1,300 @@
+//! Pictures of results as SVG (written by hand: a heatmap and line charts need no more),
+//! and PNG by rendering that SVG with resvg, which `yokai replay --png` uses too.
+
+use std::fmt::Write;
+
+/// Text safe inside SVG elements.
+pub fn escape(text: &str) -> String {
+    text.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+}
+
+/// Diverging colour: red below 0, white at 0, blue above; `scale` maps to full colour.
+fn diverging(value: f64, scale: f64) -> String {
+    let t = (value / scale.max(1e-9)).clamp(-1.0, 1.0);
+    let (r, g, b) = if t < 0.0 {
+        let k = -t;
+        (255.0, 255.0 * (1.0 - 0.75 * k), 255.0 * (1.0 - 0.75 * k))
+    } else {
+        (255.0 * (1.0 - 0.8 * t), 255.0 * (1.0 - 0.5 * t), 255.0)
+    };
+    format!("#{:02x}{:02x}{:02x}", r as u8, g as u8, b as u8)
+}
+
+/// Size in pixels of the heatmap of `n` policies.
+pub fn heatmap_size(n: usize) -> (usize, usize) {
+    (LABEL + n * CELL + 20, 60 + n * CELL + LABEL)
+}
+
+const CELL: usize = 64;
+const LABEL: usize = 170;
+
+/// The cross-play matrix as a heatmap: entry (i, j) is `values[i][j]` (R of policies i and
+/// j together), the diagonal is self-play.
+pub fn heatmap_svg(title: &str, names: &[String], values: &[Vec<f64>]) -> String {
+    let n = names.len();
+    let (w, h) = heatmap_size(n);
+    let scale = values
+        .iter()
+        .flatten()
+        .fold(0f64, |m, v| m.max(v.abs()))
+        .max(1.0);
+    let mut s = format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" viewBox=\"0 0 {w} {h}\" \
+         font-family=\"sans-serif\" font-size=\"12\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n\
+         <text x=\"10\" y=\"24\" font-size=\"15\" font-weight=\"bold\">{}</text>\n",
+        escape(title)
+    );
+    let top = 60;
+    for (i, row) in values.iter().enumerate() {
+        let _ = writeln!(
+            s,
+            "<text x=\"{}\" y=\"{}\" text-anchor=\"end\">{}</text>",
+            LABEL - 8,
+            top + i * CELL + CELL / 2 + 4,
+            escape(&names[i])
+        );
+        for (j, &v) in row.iter().enumerate() {
+            let (x, y) = (LABEL + j * CELL, top + i * CELL);
+            let _ = writeln!(
+                s,
+                "<rect class=\"cell\" data-row=\"{i}\" data-col=\"{j}\" data-value=\"{v:.3}\" x=\"{x}\" y=\"{y}\" \
+                 width=\"{CELL}\" height=\"{CELL}\" fill=\"{}\" stroke=\"#fff\"/>\
+                 <text x=\"{}\" y=\"{}\" text-anchor=\"middle\">{v:.2}</text>",
+                diverging(v, scale),
+                x + CELL / 2,
+                y + CELL / 2 + 4
+            );
+        }
+    }
+    for (j, name) in names.iter().enumerate() {
+        let (x, y) = (LABEL + j * CELL + CELL / 2, top + n * CELL + 10);
+        let _ = writeln!(
+            s,
+            "<text x=\"{x}\" y=\"{y}\" text-anchor=\"end\" transform=\"rotate(-45 {x} {y})\">{}</text>",
+            escape(name)
+        );
+    }
+    s.push_str("</svg>\n");
+    s
+}
+
+/// One line of a chart.
+pub struct Series {
+    pub label: String,
+    pub points: Vec<(f64, f64)>,
+}
+
+const PALETTE: [&str; 12] = [
+    "#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f",
+    "#bcbd22", "#17becf", "#393b79", "#637939",
+];
+
+/// A line chart of `series` (x: environment steps).
+pub fn lines_svg(title: &str, y_label: &str, series: &[Series]) -> String {
+    let (w, h) = (720.0, 420.0);
+    let (left, right, top, bottom) = (70.0, 160.0, 40.0, 50.0);
+    let all = series.iter().flat_map(|s| s.points.iter());
+    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+    for &(x, y) in all {
+        x0 = x0.min(x);
+        x1 = x1.max(x);
+        y0 = y0.min(y);
+        y1 = y1.max(y);
+    }
+    if x0 > x1 {
+        (x0, x1, y0, y1) = (0.0, 1.0, 0.0, 1.0);
+    }
+    if x1 - x0 < 1e-9 {
+        x1 = x0 + 1.0;
+    }
+    if y1 - y0 < 1e-9 {
+        (y0, y1) = (y0 - 1.0, y1 + 1.0);
+    }
+    let px = |x: f64| left + (x - x0) / (x1 - x0) * (w - left - right);
+    let py = |y: f64| h - bottom - (y - y0) / (y1 - y0) * (h - top - bottom);
+    let mut s = format!(
+        "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" viewBox=\"0 0 {w} {h}\" \
+         font-family=\"sans-serif\" font-size=\"12\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n\
+         <text x=\"{left}\" y=\"22\" font-size=\"15\" font-weight=\"bold\">{}</text>\n\
+         <rect x=\"{left}\" y=\"{top}\" width=\"{}\" height=\"{}\" fill=\"none\" stroke=\"#444\"/>\n",
+        escape(title),
+        w - left - right,
+        h - top - bottom
+    );
+    for k in 0..=4 {
+        let y = y0 + (y1 - y0) * k as f64 / 4.0;
+        let x = x0 + (x1 - x0) * k as f64 / 4.0;
+        let _ = writeln!(
+            s,
+            "<text x=\"{}\" y=\"{}\" text-anchor=\"end\">{y:.2}</text>\
+             <line x1=\"{left}\" x2=\"{}\" y1=\"{py}\" y2=\"{py}\" stroke=\"#eee\"/>\
+             <text x=\"{}\" y=\"{}\" text-anchor=\"middle\">{}</text>",
+            left - 6.0,
+            py(y) + 4.0,
+            w - right,
+            px(x),
+            h - bottom + 18.0,
+            short_number(x),
+            py = py(y)
+        );
+    }
+    let _ = writeln!(
+        s,
+        "<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">environment steps</text>\
+         <text x=\"16\" y=\"{}\" transform=\"rotate(-90 16 {})\" text-anchor=\"middle\">{}</text>",
+        (left + w - right) / 2.0,
+        h - 10.0,
+        (top + h - bottom) / 2.0,
+        (top + h - bottom) / 2.0,
+        escape(y_label)
+    );
+    for (k, series) in series.iter().enumerate() {
+        let colour = PALETTE[k % PALETTE.len()];
+        let points: Vec<String> = series
+            .points
+            .iter()
+            .map(|&(x, y)| format!("{:.1},{:.1}", px(x), py(y)))
+            .collect();
+        let _ = writeln!(
+            s,
+            "<polyline class=\"series\" data-label=\"{}\" fill=\"none\" stroke=\"{colour}\" stroke-width=\"1.8\" points=\"{}\"/>\
+             <rect x=\"{}\" y=\"{}\" width=\"12\" height=\"3\" fill=\"{colour}\"/>\
+             <text x=\"{}\" y=\"{}\">{}</text>",
+            escape(&series.label),
+            points.join(" "),
+            w - right + 10.0,
+            top + 10.0 + 16.0 * k as f64,
+            w - right + 26.0,
+            top + 14.0 + 16.0 * k as f64,
+            escape(&series.label)
+        );
+    }
+    s.push_str("</svg>\n");
+    s
+}
+
+fn short_number(x: f64) -> String {
+    if x.abs() >= 1e9 {
+        format!("{:.1}G", x / 1e9)
+    } else if x.abs() >= 1e6 {
+        format!("{:.1}M", x / 1e6)
+    } else if x.abs() >= 1e3 {
+        format!("{:.0}k", x / 1e3)
+    } else {
+        format!("{x:.0}")
+    }
+}
+
+/// Centred moving average over `window` points, so that noisy per-update metrics read as a
+/// curve.
+pub fn smooth(points: &[(f64, f64)], window: usize) -> Vec<(f64, f64)> {
+    let half = window / 2;
+    (0..points.len())
+        .map(|i| {
+            let lo = i.saturating_sub(half);
+            let hi = (i + half + 1).min(points.len());
+            let mean = points[lo..hi].iter().map(|p| p.1).sum::<f64>() / (hi - lo) as f64;
+            (points[i].0, mean)
+        })
+        .collect()
+}
+
+/// The system's fonts, with `sans-serif` mapped to a sans face that exists (fontdb maps
+/// it to Arial, which Linux machines rarely have). Without any font, PNGs have no text.
+pub fn system_fonts() -> resvg::usvg::fontdb::Database {
+    let mut db = resvg::usvg::fontdb::Database::new();
+    db.load_system_fonts();
+    let families: Vec<String> = db
+        .faces()
+        .filter_map(|f| f.families.first().map(|(name, _)| name.clone()))
+        .collect();
+    match families
+        .iter()
+        .find(|f| f.contains("Sans") && !f.contains("Mono"))
+        .or(families.first())
+    {
+        Some(family) => db.set_sans_serif_family(family.clone()),
+        None => eprintln!(
+            "warning: no system font found, so PNG pictures have no text \
+             (install e.g. fonts-dejavu-core, or use the SVG files)"
+        ),
+    }
+    db
+}
+
+/// Rasterise an SVG picture to PNG bytes.
+pub fn png(
+    svg: &str,
+    fonts: std::sync::Arc<resvg::usvg::fontdb::Database>,
+) -> Result<Vec<u8>, String> {
+    let options = resvg::usvg::Options {
+        fontdb: fonts,
+        ..Default::default()
+    };
+    let tree = resvg::usvg::Tree::from_str(svg, &options).map_err(|e| format!("svg: {e}"))?;
+    let size = tree.size().to_int_size();
+    let mut pixmap = resvg::tiny_skia::Pixmap::new(size.width(), size.height())
+        .ok_or("the picture has no area")?;
+    resvg::render(
+        &tree,
+        resvg::tiny_skia::Transform::default(),
+        &mut pixmap.as_mut(),
+    );
+    pixmap.encode_png().map_err(|e| format!("png: {e}"))
+}
+
+/// Write `NAME.svg` and `NAME.png` into `dir`.
+pub fn write_both(dir: &std::path::Path, name: &str, svg: &str) -> Result<(), String> {
+    let write = |file: String, bytes: &[u8]| {
+        let path = dir.join(file);
+        std::fs::write(&path, bytes).map_err(|e| format!("cannot write {}: {e}", path.display()))
+    };
+    write(format!("{name}.svg"), svg.as_bytes())?;
+    let fonts = std::sync::Arc::new(system_fonts());
+    write(format!("{name}.png"), &png(svg, fonts)?)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn heatmap_has_one_cell_per_entry_and_renders_at_its_size() {
+        let names: Vec<String> = vec!["a".into(), "b".into(), "c".into()];
+        let values = vec![vec![1.0, -2.0, 0.5]; 3];
+        let svg = heatmap_svg("xp", &names, &values);
+        assert_eq!(svg.matches("class=\"cell\"").count(), 9);
+        assert!(svg.contains("data-row=\"0\" data-col=\"1\" data-value=\"-2.000\""));
+        let bytes = png(
+            &svg,
+            std::sync::Arc::new(resvg::usvg::fontdb::Database::new()),
+        )
+        .unwrap();
+        let image = resvg::tiny_skia::Pixmap::decode_png(&bytes).unwrap();
+        let (w, h) = heatmap_size(3);
+        assert_eq!((image.width() as usize, image.height() as usize), (w, h));
+        // Negative entries are red, positive ones blue.
+        assert!(diverging(-2.0, 2.0).starts_with("#ff"));
+        assert!(diverging(2.0, 2.0).ends_with("ff"));
+    }
+
+    #[test]
+    fn chart_has_a_line_per_series_and_smoothing_keeps_means() {
+        let series = vec![
+            Series {
+                label: "seed 0".into(),
+                points: vec![(0.0, 1.0), (10.0, 2.0)],
+            },
+            Series {
+                label: "seed 1".into(),
+                points: vec![(0.0, -1.0), (10.0, 0.0)],
+            },
+        ];
+        let svg = lines_svg("R", "return", &series);
+        assert_eq!(svg.matches("class=\"series\"").count(), 2);
+        let s = smooth(&[(0.0, 0.0), (1.0, 3.0), (2.0, 6.0)], 3);
+        assert_eq!(s, vec![(0.0, 1.5), (1.0, 3.0), (2.0, 4.5)]);
+    }
+}

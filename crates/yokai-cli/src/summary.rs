@@ -1,0 +1,199 @@
+//! The paper's table: per method (a group of seeds), SP and XP metrics as mean ± standard
+//! error over seeds (SP: the diagonal; XP: every pair of different seeds).
+
+use serde::{Deserialize, Serialize};
+use yokai_engine::Metrics;
+
+/// Mean and standard error of a set of per-seed values.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MeanSe {
+    pub mean: f64,
+    pub se: f64,
+}
+
+impl MeanSe {
+    pub fn of(xs: &[f64]) -> Option<MeanSe> {
+        if xs.is_empty() {
+            return None;
+        }
+        let n = xs.len() as f64;
+        let mean = xs.iter().sum::<f64>() / n;
+        let se = if xs.len() < 2 {
+            0.0
+        } else {
+            (xs.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0) / n).sqrt()
+        };
+        Some(MeanSe { mean, se })
+    }
+}
+
+/// R, SEE, EE, WEE, LEN of one side (SP or XP); shares in percent.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Side {
+    pub entries: usize,
+    pub reward: Option<MeanSe>,
+    pub see: Option<MeanSe>,
+    pub ee: Option<MeanSe>,
+    pub wee: Option<MeanSe>,
+    pub length: Option<MeanSe>,
+}
+
+impl Side {
+    fn of(ms: &[&Metrics]) -> Side {
+        let f = |g: &dyn Fn(&Metrics) -> Option<f64>| {
+            MeanSe::of(&ms.iter().filter_map(|m| g(m)).collect::<Vec<_>>())
+        };
+        Side {
+            entries: ms.len(),
+            reward: f(&|m| Some(m.reward)),
+            see: f(&|m| Some(100.0 * m.successful_early_end)),
+            ee: f(&|m| Some(100.0 * m.early_end)),
+            wee: f(&|m| m.win_given_early_end.map(|w| 100.0 * w)),
+            length: f(&|m| Some(m.length)),
+        }
+    }
+}
+
+/// One method's row.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct GroupSummary {
+    pub name: String,
+    pub seeds: Vec<String>,
+    pub sp: Side,
+    pub xp: Side,
+}
+
+/// What `summary.json` of an evaluation holds, for `yokai compare`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct EvalSummary {
+    /// The game's short name when it has one (e.g. `9c-2p-perfect`), else its description.
+    pub game: String,
+    pub games_per_pair: u64,
+    pub groups: Vec<GroupSummary>,
+}
+
+/// Summarise the group of policies `members` (indices into the matrix) from the cells
+/// `(row, col, metrics)` of the evaluation.
+pub fn summarise(
+    name: &str,
+    names: &[String],
+    cells: &[(usize, usize, Metrics)],
+    members: &[usize],
+) -> GroupSummary {
+    let sp: Vec<&Metrics> = cells
+        .iter()
+        .filter(|(r, c, _)| r == c && members.contains(r))
+        .map(|(_, _, m)| m)
+        .collect();
+    let xp: Vec<&Metrics> = cells
+        .iter()
+        .filter(|(r, c, _)| r != c && members.contains(r) && members.contains(c))
+        .map(|(_, _, m)| m)
+        .collect();
+    GroupSummary {
+        name: name.to_string(),
+        seeds: members.iter().map(|&i| names[i].clone()).collect(),
+        sp: Side::of(&sp),
+        xp: Side::of(&xp),
+    }
+}
+
+fn cell(v: Option<MeanSe>, digits: usize) -> String {
+    v.map_or("–".into(), |v| {
+        format!("{:.d$} ± {:.d$}", v.mean, v.se, d = digits)
+    })
+}
+
+pub const TABLE_HEAD: &str = "| method | seeds | SP R | SP SEE % | SP EE % | SP WEE % | SP LEN | XP R | XP SEE % | XP EE % | XP WEE % | XP LEN |\n\
+                              |---|---|---|---|---|---|---|---|---|---|---|---|\n";
+
+/// One Markdown row in the paper's layout.
+pub fn table_row(g: &GroupSummary) -> String {
+    format!(
+        "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
+        g.name,
+        g.seeds.len(),
+        cell(g.sp.reward, 2),
+        cell(g.sp.see, 1),
+        cell(g.sp.ee, 1),
+        cell(g.sp.wee, 1),
+        cell(g.sp.length, 1),
+        cell(g.xp.reward, 2),
+        cell(g.xp.see, 1),
+        cell(g.xp.ee, 1),
+        cell(g.xp.wee, 1),
+        cell(g.xp.length, 1),
+    )
+}
+
+/// The paper's published rows for a game (TRAINING.md, "Paper anchors"), as Markdown
+/// rows of the same table; empty for games the paper has no table for.
+pub fn paper_rows(game: &str) -> String {
+    if game != "9c-2p-perfect" {
+        return String::new();
+    }
+    [
+        ("paper: IPPO", "7.5", "89", "1.6", "18", "29.7"),
+        ("paper: HE", "7.5", "95", "4.1", "50", "27.2"),
+        ("paper: OP", "6.6", "84", "4.8", "63", "26.7"),
+        ("paper: OBL L1..L5", "4.0–4.8", "68–80", "2.1–2.8", "38–53", "28.5–29.5"),
+        ("paper: random legal", "−4.0", "0.6", "−4.0", "0.6", "20.2"),
+    ]
+    .iter()
+    .map(|(name, sp_r, sp_see, xp_r, xp_see, xp_len)| {
+        format!(
+            "| {name} | 12 | {sp_r} | {sp_see} | – | – | – | {xp_r} | {xp_see} | – | – | {xp_len} |\n"
+        )
+    })
+    .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use yokai_engine::{MetricsAccumulator, Outcome};
+
+    fn metrics(rewards: &[(i32, bool, bool)]) -> Metrics {
+        let mut acc = MetricsAccumulator::default();
+        for &(reward, won, early_end) in rewards {
+            acc.add(&Outcome {
+                reward,
+                score: reward,
+                won,
+                early_end,
+                length: 10,
+                correct_hints: 0,
+                wrong_hints: 0,
+                clustered: 0,
+                face_down: 0,
+                revealed_unplaced: 0,
+            });
+        }
+        acc.metrics().unwrap()
+    }
+
+    #[test]
+    fn sp_is_the_diagonal_and_xp_the_pairs_of_different_seeds() {
+        let names: Vec<String> = vec!["s0".into(), "s1".into(), "bot".into()];
+        let cells = vec![
+            (0, 0, metrics(&[(10, true, true), (-4, false, true)])), // SP 3, SEE 50, EE 100
+            (1, 1, metrics(&[(5, true, false)])),                    // SP 5, SEE 0, EE 0
+            (0, 1, metrics(&[(-2, false, false)])),                  // XP -2
+            (0, 2, metrics(&[(100, true, true)])),                   // not in the group
+            (2, 2, metrics(&[(100, true, true)])),
+        ];
+        let g = summarise("m", &names, &cells, &[0, 1]);
+        let r = g.sp.reward.unwrap();
+        assert_eq!(r.mean, 4.0);
+        assert!((r.se - 1.0).abs() < 1e-12, "sd of (3, 5) is √2, se 1");
+        assert_eq!(g.sp.see.unwrap().mean, 25.0);
+        assert_eq!(g.sp.ee.unwrap().mean, 50.0);
+        // WEE is undefined for seed 1 (no early end): averaged over seeds that have one.
+        assert_eq!(g.sp.wee.unwrap().mean, 50.0);
+        assert_eq!(g.xp.entries, 1);
+        assert_eq!(g.xp.reward.unwrap().mean, -2.0);
+        assert!(table_row(&g).starts_with("| m | 2 | 4.00 ± 1.00 | 25.0 ± 25.0 |"));
+        assert!(paper_rows("9c-2p-perfect").contains("| paper: HE | 12 | 7.5 | 95 |"));
+        assert!(paper_rows("16c-2p-perfect").is_empty());
+    }
+}
