@@ -1,21 +1,27 @@
-//! `yokai.Agent`: a built-in policy (random, greedy, belief) playing one seat of an `Env`.
+//! `yokai.Agent`: a built-in policy (random, greedy, belief) or a trained network playing
+//! one seat of an `Env`.
 
 use crate::env::PyEnv;
 use crate::errors::{config_error, illegal};
 use pyo3::prelude::*;
 use std::sync::Mutex;
 use yokai_agents::{Policy, PolicySpec};
-use yokai_engine::Seat;
+use yokai_engine::{Config, Game, Seat};
+use yokai_train::TrainedPolicy;
 
 /// A built-in policy by name (``"random"``, ``"greedy"``, ``"belief"``, with parameters as
-/// ``"belief:continue_win=0.9"``). It sees only what its seat may know.
+/// ``"belief:continue_win=0.9"``), or a trained policy given as the path of a policy file,
+/// checkpoint or run directory (``yokai train``). It sees only what its seat may know. A
+/// trained policy plays only the game it was trained on.
 ///
 /// Bots that follow the game (``belief``) must be shown every action: call
 /// ``agent.observe(env, seat, action)`` for every agent *before* ``env.step(action)``, or
 /// use ``yokai.play`` which does it for you.
 #[pyclass(module = "yokai._core", name = "Agent")]
 pub struct PyAgent {
-    spec: PolicySpec,
+    name: String,
+    /// The game a trained policy was trained on (`None` for built-in bots).
+    game: Option<Config>,
     /// A Mutex only to make the class `Sync` for PyO3; methods take `&mut self`.
     policy: Mutex<Box<dyn Policy>>,
 }
@@ -24,6 +30,18 @@ impl PyAgent {
     fn policy(&mut self) -> &mut Box<dyn Policy> {
         self.policy.get_mut().unwrap_or_else(|e| e.into_inner())
     }
+
+    /// A trained network fits only the game it was trained on.
+    fn check_game(&self, game: &Game) -> PyResult<()> {
+        match self.game {
+            Some(trained) if trained != *game.config() => Err(config_error(format!(
+                "{} was trained on {trained}, not on {}",
+                self.name,
+                game.config()
+            ))),
+            _ => Ok(()),
+        }
+    }
 }
 
 #[pymethods]
@@ -31,11 +49,17 @@ impl PyAgent {
     #[new]
     #[pyo3(signature = (name, seed=0))]
     fn new(name: &str, seed: u64) -> PyResult<Self> {
-        let spec: PolicySpec = name.parse().map_err(config_error)?;
-        let mut policy = spec.build(seed);
+        let (label, game, mut policy) = if std::path::Path::new(name).exists() {
+            let trained = TrainedPolicy::load(std::path::Path::new(name)).map_err(config_error)?;
+            (name.to_string(), Some(*trained.game()), trained.build(seed))
+        } else {
+            let spec: PolicySpec = name.parse().map_err(config_error)?;
+            (spec.to_string(), None, spec.build(seed))
+        };
         policy.reset(seed);
         Ok(PyAgent {
-            spec,
+            name: label,
+            game,
             policy: Mutex::new(policy),
         })
     }
@@ -48,6 +72,7 @@ impl PyAgent {
     /// The action index this agent plays as the acting seat of ``env``.
     fn act(&mut self, env: PyRef<'_, PyEnv>) -> PyResult<usize> {
         let game = env.game();
+        self.check_game(game)?;
         if game.is_over() {
             return Err(illegal("the game is over"));
         }
@@ -59,6 +84,7 @@ impl PyAgent {
     /// play ``action``.
     fn observe(&mut self, env: PyRef<'_, PyEnv>, seat: usize, action: usize) -> PyResult<()> {
         let game = env.game();
+        self.check_game(game)?;
         if seat >= game.config().players() {
             return Err(pyo3::exceptions::PyValueError::new_err(format!(
                 "there is no seat {seat} in a {}-player game",
@@ -73,10 +99,10 @@ impl PyAgent {
 
     #[getter]
     fn name(&self) -> String {
-        self.spec.to_string()
+        self.name.clone()
     }
 
     fn __repr__(&self) -> String {
-        format!("Agent({:?})", self.spec.to_string())
+        format!("Agent({:?})", self.name.clone())
     }
 }

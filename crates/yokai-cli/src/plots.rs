@@ -10,21 +10,24 @@ pub fn escape(text: &str) -> String {
         .replace('>', "&gt;")
 }
 
-/// Diverging colour: red below 0, white at 0, blue above; `scale` maps to full colour.
-fn diverging(value: f64, scale: f64) -> String {
-    let t = (value / scale.max(1e-9)).clamp(-1.0, 1.0);
-    let (r, g, b) = if t < 0.0 {
-        let k = -t;
-        (255.0, 255.0 * (1.0 - 0.75 * k), 255.0 * (1.0 - 0.75 * k))
-    } else {
-        (255.0 * (1.0 - 0.8 * t), 255.0 * (1.0 - 0.5 * t), 255.0)
-    };
-    format!("#{:02x}{:02x}{:02x}", r as u8, g as u8, b as u8)
+/// Sequential colour from pale yellow (the lowest value, `t` = 0) to dark blue (the
+/// highest, `t` = 1), so that differences show whatever the range of R.
+fn sequential(t: f64) -> String {
+    let t = t.clamp(0.0, 1.0);
+    let (lo, hi) = ((255.0, 247.0, 188.0), (37.0, 52.0, 148.0));
+    let mix = |a: f64, b: f64| (a + (b - a) * t) as u8;
+    format!(
+        "#{:02x}{:02x}{:02x}",
+        mix(lo.0, hi.0),
+        mix(lo.1, hi.1),
+        mix(lo.2, hi.2)
+    )
 }
 
-/// Size in pixels of the heatmap of `n` policies.
-pub fn heatmap_size(n: usize) -> (usize, usize) {
-    (LABEL + n * CELL + 20, 60 + n * CELL + LABEL)
+/// Size in pixels of the heatmap of `n` policies under `title`.
+pub fn heatmap_size(n: usize, title: &str) -> (usize, usize) {
+    let width = (LABEL + n * CELL + 20).max(20 + 9 * title.chars().count());
+    (width, 60 + n * CELL + LABEL)
 }
 
 const CELL: usize = 64;
@@ -34,12 +37,10 @@ const LABEL: usize = 170;
 /// j together), the diagonal is self-play.
 pub fn heatmap_svg(title: &str, names: &[String], values: &[Vec<f64>]) -> String {
     let n = names.len();
-    let (w, h) = heatmap_size(n);
-    let scale = values
-        .iter()
-        .flatten()
-        .fold(0f64, |m, v| m.max(v.abs()))
-        .max(1.0);
+    let (w, h) = heatmap_size(n, title);
+    let lo = values.iter().flatten().fold(f64::MAX, |m, &v| m.min(v));
+    let hi = values.iter().flatten().fold(f64::MIN, |m, &v| m.max(v));
+    let shade = |v: f64| sequential(if hi > lo { (v - lo) / (hi - lo) } else { 0.5 });
     let mut s = format!(
         "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w}\" height=\"{h}\" viewBox=\"0 0 {w} {h}\" \
          font-family=\"sans-serif\" font-size=\"12\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n\
@@ -61,10 +62,11 @@ pub fn heatmap_svg(title: &str, names: &[String], values: &[Vec<f64>]) -> String
                 s,
                 "<rect class=\"cell\" data-row=\"{i}\" data-col=\"{j}\" data-value=\"{v:.3}\" x=\"{x}\" y=\"{y}\" \
                  width=\"{CELL}\" height=\"{CELL}\" fill=\"{}\" stroke=\"#fff\"/>\
-                 <text x=\"{}\" y=\"{}\" text-anchor=\"middle\">{v:.2}</text>",
-                diverging(v, scale),
+                 <text x=\"{}\" y=\"{}\" text-anchor=\"middle\" fill=\"{}\">{v:.2}</text>",
+                shade(v),
                 x + CELL / 2,
-                y + CELL / 2 + 4
+                y + CELL / 2 + 4,
+                if hi > lo && (v - lo) / (hi - lo) > 0.55 { "white" } else { "black" }
             );
         }
     }
@@ -273,11 +275,14 @@ mod tests {
         )
         .unwrap();
         let image = resvg::tiny_skia::Pixmap::decode_png(&bytes).unwrap();
-        let (w, h) = heatmap_size(3);
+        let (w, h) = heatmap_size(3, "xp");
         assert_eq!((image.width() as usize, image.height() as usize), (w, h));
-        // Negative entries are red, positive ones blue.
-        assert!(diverging(-2.0, 2.0).starts_with("#ff"));
-        assert!(diverging(2.0, 2.0).ends_with("ff"));
+        // The lowest entry is the palest, the highest the darkest.
+        assert_eq!(sequential(0.0), "#fff7bc");
+        assert_eq!(sequential(1.0), "#253494");
+        assert!(svg.contains(
+            "data-value=\"-2.000\" x=\"234\" y=\"60\" width=\"64\" height=\"64\" fill=\"#fff7bc\""
+        ));
     }
 
     #[test]

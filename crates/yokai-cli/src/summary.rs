@@ -133,16 +133,16 @@ pub fn paper_rows(game: &str) -> String {
         return String::new();
     }
     [
-        ("paper: IPPO", "7.5", "89", "1.6", "18", "29.7"),
-        ("paper: HE", "7.5", "95", "4.1", "50", "27.2"),
-        ("paper: OP", "6.6", "84", "4.8", "63", "26.7"),
-        ("paper: OBL L1..L5", "4.0–4.8", "68–80", "2.1–2.8", "38–53", "28.5–29.5"),
-        ("paper: random legal", "−4.0", "0.6", "−4.0", "0.6", "20.2"),
+        ("paper: IPPO", "12", "7.5", "89", "1.6", "18", "29.7"),
+        ("paper: HE", "12", "7.5", "95", "4.1", "50", "27.2"),
+        ("paper: OP", "12", "6.6", "84", "4.8", "63", "26.7"),
+        ("paper: OBL L1..L5", "12", "4.0–4.8", "68–80", "2.1–2.8", "38–53", "28.5–29.5"),
+        ("paper: random legal", "–", "−4.0", "0.6", "−4.0", "0.6", "20.2"),
     ]
     .iter()
-    .map(|(name, sp_r, sp_see, xp_r, xp_see, xp_len)| {
+    .map(|(name, seeds, sp_r, sp_see, xp_r, xp_see, xp_len)| {
         format!(
-            "| {name} | 12 | {sp_r} | {sp_see} | – | – | – | {xp_r} | {xp_see} | – | – | {xp_len} |\n"
+            "| {name} | {seeds} | {sp_r} | {sp_see} | – | – | – | {xp_r} | {xp_see} | – | – | {xp_len} |\n"
         )
     })
     .collect()

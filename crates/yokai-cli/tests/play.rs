@@ -175,10 +175,10 @@ fn train_then_eval_a_run_directory() {
     // The heatmap decodes as an image of the expected size: 3 policies (2 seeds + random).
     let png = std::fs::read(eval.join("xp_heatmap.png")).unwrap();
     let image = resvg::tiny_skia::Pixmap::decode_png(&png).unwrap();
-    assert_eq!(
-        (image.width(), image.height()),
-        (170 + 3 * 64 + 20, 60 + 3 * 64 + 170)
-    );
+    // Wide enough for 3 columns of 64 px after the labels, or for the title if wider.
+    let title = "R of each pair on 9c-2p-perfect (diagonal: self-play)";
+    let width = (170 + 3 * 64 + 20).max(20 + 9 * title.chars().count() as u32);
+    assert_eq!((image.width(), image.height()), (width, 60 + 3 * 64 + 170));
     let curves = std::fs::read_to_string(eval.join("learning_return.svg")).unwrap();
     assert_eq!(
         curves.matches("class=\"series\"").count(),

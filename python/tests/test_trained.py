@@ -1,0 +1,65 @@
+"""Trained policies (written by ``yokai train``) as ``yokai.Agent``s."""
+
+import pathlib
+import subprocess
+
+import pytest
+
+import yokai
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+BINARY = ROOT / "target" / "release" / "yokai"
+
+TINY = """
+game = "9c-2p-perfect"
+[network]
+preset = "compact"
+hidden = 16
+[ppo]
+num_envs = 8
+rollout_steps = 8
+minibatches = 2
+epochs = 1
+total_steps = 128
+"""
+
+
+@pytest.fixture(scope="module")
+def run_dir(tmp_path_factory):
+    if not BINARY.exists():
+        pytest.skip("needs the yokai binary: scripts/test.sh builds it before pytest")
+    tmp = tmp_path_factory.mktemp("train")
+    config = tmp / "tiny.toml"
+    config.write_text(TINY)
+    out = tmp / "runs"
+    subprocess.run(
+        [str(BINARY), "train", str(config), "--seeds", "0", "--out", str(out), "--eval-games", "0"],
+        check=True,
+        capture_output=True,
+    )
+    return out / "seed-0"
+
+
+def test_a_trained_policy_plays_whole_games(run_dir):
+    agent = yokai.Agent(str(run_dir), seed=1)
+    assert agent.name == str(run_dir)
+    for seed in range(5):
+        env = yokai.play("9c-2p-perfect", [agent, yokai.Agent("random", seed)], seed=seed)
+        assert env.done and env.outcome is not None
+
+
+def test_the_policy_file_and_checkpoint_load_too(run_dir):
+    for name in ("policy.ykp", "checkpoint.ykc"):
+        env = yokai.play("9c-2p-perfect", [str(run_dir / name), "belief"], seed=3)
+        assert env.done
+
+
+def test_another_game_and_broken_files_are_clear_errors(run_dir, tmp_path):
+    agent = yokai.Agent(str(run_dir))
+    with pytest.raises(yokai.ConfigError, match="was trained on 9c-2p-perfect, not on 9c-3p-perfect"):
+        agent.act(yokai.Env("9c-3p-perfect", seed=0))
+    broken = tmp_path / "broken.ykp"
+    data = (run_dir / "policy.ykp").read_bytes()
+    broken.write_bytes(data[: len(data) // 2])
+    with pytest.raises(yokai.ConfigError, match="broken.ykp is corrupt"):
+        yokai.Agent(str(broken))
