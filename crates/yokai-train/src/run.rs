@@ -6,6 +6,7 @@
 //! RUN/metrics.jsonl    one JSON line per logged update (step, SPS, R, win, SEE, EE, WEE, LEN, losses, entropy)
 //! RUN/checkpoint.ykc   network, optimiser and loop state, replaced atomically
 //! RUN/policy.ykp       the final policy, loadable by `yokai eval` and Python
+//! RUN/replays/         at every checkpoint, the last finished training game of env 0
 //! ```
 
 use crate::config::{NetworkPreset, TrainConfig};
@@ -123,6 +124,7 @@ fn run<E: Encoder>(
         }
         if u % ckpt_every == 0 || u == total {
             trainer.checkpoint().write_atomic(&checkpoint)?;
+            save_training_game(&trainer, dir, u)?;
         }
         last = Some(stats);
     }
@@ -137,6 +139,38 @@ fn run<E: Encoder>(
         last,
         seconds: start.elapsed().as_secs_f64(),
     })
+}
+
+/// Save the last training game of env 0 as `RUN/replays/update-NNNNNN.jsonl`, so that what
+/// the policy did at each checkpoint can be looked at with `yokai replay`.
+fn save_training_game<E: Encoder>(
+    trainer: &Trainer<E>,
+    dir: &Path,
+    update: u64,
+) -> Result<(), TrainError> {
+    let Some(record) = trainer.last_finished_game() else {
+        return Ok(());
+    };
+    let players = record.config.players();
+    let seats = (0..players)
+        .map(|s| format!("{} (training, update {update}, seat {s})", dir.display()))
+        .collect();
+    let seed = match record.deal {
+        yokai_engine::DealSource::Seed(seed) => Some(seed),
+        yokai_engine::DealSource::Explicit(_) => None,
+    };
+    let replay = yokai_engine::Replay::from_record(&record, seed, seats).map_err(|e| {
+        TrainError::Mismatch {
+            path: dir.display().to_string(),
+            message: format!("a training game does not replay: {e}"),
+        }
+    })?;
+    let replays = dir.join("replays");
+    std::fs::create_dir_all(&replays).map_err(|e| io(&replays, e))?;
+    write(
+        &replays.join(format!("update-{update:06}.jsonl")),
+        &replay.to_jsonl(),
+    )
 }
 
 fn write(path: &Path, text: &str) -> Result<(), TrainError> {

@@ -25,8 +25,10 @@ use rand_chacha::rand_core::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
-use yokai_engine::{derive_seed, Config, Metrics, MetricsAccumulator, Symmetry};
-use yokai_vec::{Encoding, VecEnv, VecEnvOptions, VecError};
+use yokai_engine::{
+    derive_seed, Config, EpisodeRecord, Metrics, MetricsAccumulator, RecordedGame, Symmetry,
+};
+use yokai_vec::{episode_seed, Encoding, VecEnv, VecEnvOptions, VecError};
 
 /// Why training cannot go on.
 #[derive(Debug, thiserror::Error)]
@@ -116,6 +118,8 @@ pub struct Trainer<E: Encoder> {
     rows: usize,
     obs_len: usize,
     n_actions: usize,
+    /// The last finished game of env 0 (deal seed, actions), to save as a replay.
+    last_game: Option<(u64, Vec<u32>)>,
 }
 
 /// The device training runs on: burn's CUDA backend with the `cuda` feature, else `flex`.
@@ -162,7 +166,7 @@ impl<E: Encoder> Trainer<E> {
         let model = ActorCritic::<E>::new(&config, &game, derive_seed(seed, 0xC0FFEE), &device);
         let n = config.ppo.num_envs;
         let p = game.players();
-        let mut options = VecEnvOptions::new(n, derive_seed(seed, 0xE5));
+        let mut options = VecEnvOptions::new(n, derive_seed(seed, 0xE5)); // = env_seed()
         options.encoding = E::encoding();
         options.threads = (config.run.threads > 0).then_some(config.run.threads);
         let env = VecEnv::<f32>::new(game, options)?;
@@ -193,6 +197,7 @@ impl<E: Encoder> Trainer<E> {
             rows: n * p,
             obs_len,
             n_actions: game.num_actions(),
+            last_game: None,
         };
         for i in 0..n {
             trainer.draw_symmetries(i);
@@ -282,6 +287,22 @@ impl<E: Encoder> Trainer<E> {
         }
     }
 
+    fn env_seed(&self) -> u64 {
+        derive_seed(self.seed, 0xE5)
+    }
+
+    /// The last game of env 0 that finished, as played in training (deal and actions).
+    pub fn last_finished_game(&self) -> Option<EpisodeRecord> {
+        let (seed, actions) = self.last_game.as_ref()?;
+        let mut game = RecordedGame::new(self.game, *seed);
+        for &a in actions {
+            let action = self.game.decode(a as usize).expect("an index of this game");
+            game.apply(action)
+                .expect("actions recorded from the environment are legal");
+        }
+        Some(game.into_record())
+    }
+
     /// Map a row's chosen action from its seat's view back to the true game.
     pub fn to_true_action(&self, row: usize, view_action: usize) -> usize {
         self.row_sym[row]
@@ -366,6 +387,12 @@ impl<E: Encoder> Trainer<E> {
                 if done {
                     if let Some(o) = self.env.outcomes()[i] {
                         games.add(&o);
+                    }
+                    if i == 0 {
+                        let mut actions = std::mem::take(&mut self.state.history[0]);
+                        actions.push(joint[acting[0] as usize]);
+                        let seed = episode_seed(self.env_seed(), 0, self.state.episodes[0]);
+                        self.last_game = Some((seed, actions));
                     }
                     self.state.history[i].clear();
                     self.state.episodes[i] += 1;

@@ -184,6 +184,14 @@ fn a_run_directory_holds_config_metrics_checkpoint_and_a_playable_policy() {
     let metrics = read_metrics(&dir).unwrap();
     let updates: Vec<u64> = metrics.iter().map(|m| m.update).collect();
     assert_eq!(updates, vec![1, 2, 3], "no duplicate lines after a resume");
+    // Training games are saved at checkpoints and replay under the rules.
+    let saved: Vec<_> = std::fs::read_dir(dir.join("replays")).unwrap().collect();
+    assert!(!saved.is_empty());
+    for entry in saved {
+        let text = std::fs::read_to_string(entry.unwrap().path()).unwrap();
+        let replay = yokai_engine::Replay::from_jsonl(&text).unwrap();
+        assert!(replay.outcome.is_some(), "a finished game");
+    }
 
     let policy = TrainedPolicy::load(&dir).unwrap();
     assert_eq!(policy.header().update, 3);

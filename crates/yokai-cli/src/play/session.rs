@@ -177,6 +177,19 @@ impl Session {
         }
     }
 
+    /// A mouse click on legal action `index`: the first click selects it, a click on the
+    /// selected action plays it.
+    pub fn click(&mut self, index: usize) -> Result<Effect, String> {
+        if self.curtain || index >= self.legal().len() {
+            return Ok(Effect::Nothing);
+        }
+        if index != self.selected {
+            self.selected = index;
+            return Ok(Effect::Selected(index));
+        }
+        self.handle(Key::Enter)
+    }
+
     /// Play `action` for the acting human; anything not legal for them is refused with the
     /// rules' reason, and nothing changes.
     pub fn choose(&mut self, action: Action) -> Result<(), String> {
@@ -282,6 +295,11 @@ mod tests {
         let e = s.choose(illegal).unwrap_err();
         assert!(e.contains("is not legal now"), "{e}");
         assert_eq!(s.game().steps(), steps);
+        // A click selects; a click on the selected action plays it; beyond the list, nothing.
+        let legal = s.legal();
+        assert_eq!(s.click(legal.len()).unwrap(), Effect::Nothing);
+        assert_eq!(s.click(1).unwrap(), Effect::Selected(1));
+        assert_eq!(s.click(1).unwrap(), Effect::Played(legal[1]));
         assert_eq!(s.handle(Key::Char('q')).unwrap(), Effect::Quit);
     }
 

@@ -3,10 +3,11 @@
 
 use super::session::{Effect, Key, Session};
 use ratatui::crossterm::event::{
-    self, DisableMouseCapture, EnableMouseCapture, Event, KeyCode, KeyEventKind, MouseEventKind,
+    self, DisableMouseCapture, EnableMouseCapture, Event, KeyCode, KeyEventKind, MouseButton,
+    MouseEventKind,
 };
 use ratatui::crossterm::execute;
-use ratatui::layout::{Constraint, Direction, Layout};
+use ratatui::layout::{Constraint, Direction, Layout, Rect};
 use ratatui::style::{Color, Modifier, Style};
 use ratatui::text::{Line, Span};
 use ratatui::widgets::{Block, Borders, List, ListItem, ListState, Paragraph, Wrap};
@@ -28,9 +29,11 @@ fn event_loop(
     color: bool,
 ) -> Result<(), String> {
     let mut message = String::new();
+    // Where the action list was drawn and its first visible item, to map mouse clicks.
+    let mut list = (Rect::default(), 0usize);
     loop {
         terminal
-            .draw(|f| draw(f, session, color, &message))
+            .draw(|f| list = draw(f, session, color, &message))
             .map_err(|e| format!("cannot draw: {e}"))?;
         let key = match event::read().map_err(|e| format!("cannot read the terminal: {e}"))? {
             Event::Key(k) if k.kind == KeyEventKind::Press => match k.code {
@@ -46,6 +49,21 @@ fn event_loop(
             Event::Mouse(m) => match m.kind {
                 MouseEventKind::ScrollUp => Key::Up,
                 MouseEventKind::ScrollDown => Key::Down,
+                MouseEventKind::Down(MouseButton::Left) => {
+                    let (area, offset) = list;
+                    let inside = m.column > area.x
+                        && m.column + 1 < area.x + area.width
+                        && m.row > area.y
+                        && m.row + 1 < area.y + area.height;
+                    if inside && !session.is_over() {
+                        let index = offset + (m.row - area.y - 1) as usize;
+                        match session.click(index) {
+                            Ok(_) => message.clear(),
+                            Err(e) => message = e,
+                        }
+                    }
+                    continue;
+                }
                 _ => continue,
             },
             _ => continue,
@@ -127,7 +145,8 @@ fn board(game: &Game, viewer: Option<Seat>, color: bool) -> Vec<Line<'static>> {
     lines
 }
 
-fn draw(f: &mut Frame, session: &Session, color: bool, message: &str) {
+/// Draw the screen; returns the action list's area and first visible item.
+fn draw(f: &mut Frame, session: &Session, color: bool, message: &str) -> (Rect, usize) {
     let game = session.game();
     let rows = Layout::default()
         .direction(Direction::Vertical)
@@ -153,6 +172,7 @@ fn draw(f: &mut Frame, session: &Session, color: bool, message: &str) {
         _ => "game over".into(),
     };
     let hidden = session.curtain();
+    let mut list = (Rect::default(), 0);
     let (title, lines) = if session.is_over() {
         ("the true board".to_string(), board(game, None, color))
     } else if hidden {
@@ -208,13 +228,14 @@ fn draw(f: &mut Frame, session: &Session, color: bool, message: &str) {
                 .block(
                     Block::default()
                         .borders(Borders::ALL)
-                        .title("legal actions (↑/↓, Enter; q quits)"),
+                        .title("legal actions (↑/↓ or click, Enter; q quits)"),
                 )
                 .highlight_style(highlight)
                 .highlight_symbol("> "),
             top[1],
             &mut state,
         );
+        list = (top[1], state.offset());
     }
     let log = session.log();
     let recent: Vec<Line> = log
@@ -234,4 +255,5 @@ fn draw(f: &mut Frame, session: &Session, color: bool, message: &str) {
         format!("{status} · {message}")
     };
     f.render_widget(Paragraph::new(bottom), rows[2]);
+    list
 }
