@@ -68,14 +68,26 @@ impl Encoder for CnnEncoder {
     }
 }
 
-/// The compact encoder: Linear + ReLU over the flattened graph node features (one small
-/// feature vector per card and per hint slot). Cheap enough to learn in minutes on a CPU.
+/// The compact encoder: one small MLP shared by every node (card or hint slot) of the
+/// graph observation, then a linear layer over all node embeddings in order. Sharing the
+/// per-node layer means what it learns about one card (its colour, its hint) holds for all
+/// of them. Cheap enough to learn on a CPU.
 #[derive(Module, Debug)]
 pub struct MlpEncoder {
-    layer: Linear,
+    node: Linear,
+    mix: Linear,
+    #[module(skip)]
+    nodes: usize,
+    #[module(skip)]
+    features: usize,
+    #[module(skip)]
+    width: usize,
     #[module(skip)]
     out: usize,
 }
+
+/// Width of a node embedding.
+const NODE_WIDTH: usize = 32;
 
 impl Encoder for MlpEncoder {
     const PRESET: NetworkPreset = NetworkPreset::Compact;
@@ -83,10 +95,15 @@ impl Encoder for MlpEncoder {
         Encoding::Graph(Part::Full)
     }
     fn new(config: &TrainConfig, game: &Config, init: &mut Init, device: &Device) -> Self {
-        let len: usize = game.node_shape(Part::Full).iter().product();
+        let [nodes, features] = game.node_shape(Part::Full);
         let out = config.network.hidden;
+        let sqrt2 = std::f64::consts::SQRT_2;
         MlpEncoder {
-            layer: init.linear(len, out, std::f64::consts::SQRT_2, device),
+            node: init.linear(features, NODE_WIDTH, sqrt2, device),
+            mix: init.linear(nodes * NODE_WIDTH, out, sqrt2, device),
+            nodes,
+            features,
+            width: NODE_WIDTH,
             out,
         }
     }
@@ -94,7 +111,15 @@ impl Encoder for MlpEncoder {
         self.out
     }
     fn forward(&self, obs: Tensor<2>) -> Tensor<2> {
-        relu(self.layer.forward(obs))
+        let [b, _] = obs.dims();
+        let per_node = relu(
+            self.node
+                .forward(obs.reshape([b * self.nodes, self.features])),
+        );
+        relu(
+            self.mix
+                .forward(per_node.reshape([b, self.nodes * self.width])),
+        )
     }
 }
 
