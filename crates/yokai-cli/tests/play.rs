@@ -216,9 +216,11 @@ fn train_then_eval_a_run_directory() {
         t.contains("was trained on 9c-2p-perfect, not on 9c-3p-perfect"),
         "{t}"
     );
-    // And a run directory plays against the built-in bots.
-    let out = yokai(&["eval", run.to_str().unwrap(), "random", "--games", "20"]);
-    assert!(out.status.success(), "{}", text(&out));
+    // And a run directory plays against the built-in bots, with the same table every time.
+    let args = ["eval", run.to_str().unwrap(), "random", "--games", "20"];
+    let (a, b) = (yokai(&args), yokai(&args));
+    assert!(a.status.success(), "{}", text(&a));
+    assert_eq!(a.stdout, b.stdout, "same policies and seed, same table");
     // Starting the same run again is refused; --resume with nothing left to do is fine.
     let args = [
         "train",

@@ -13,7 +13,7 @@ pub mod trainer;
 
 pub use config::{NetworkPreset, SymmetrySet, TrainConfig, TrainConfigError};
 pub use file::{Container, FileError};
-pub use network::{ActorCritic, CnnEncoder, Encoder, MlpEncoder};
+pub use network::{ActorCritic, CnnEncoder, Encoder, GruCell, Memory, MlpEncoder};
 pub use trainer::{default_device, FileHeader, TrainError, Trainer, UpdateStats};
 pub mod policy;
 pub mod run;

@@ -123,7 +123,21 @@ impl Encoder for MlpEncoder {
     }
 }
 
-/// A GRU cell (PyTorch's equations) that can be stepped with a per-row reset.
+/// A recurrent memory stepped one time step at a time (the caller zeroes a row's state
+/// where an episode starts). A step is split in two so that BPTT computes the part that
+/// depends only on the input for a whole sequence in one matrix product.
+pub trait Memory: Module + burn::module::ModuleDisplay + Sized {
+    fn new(d_in: usize, size: usize, init: &mut Init, device: &Device) -> Self;
+    /// Width of the state, which is also the memory's output.
+    fn size(&self) -> usize;
+    /// The input-dependent part of a step: `[rows, d_in]` → `[rows, projected_size]`.
+    fn project(&self, x: Tensor<2>) -> Tensor<2>;
+    fn projected_size(&self) -> usize;
+    /// One step from a projected input and the state `[rows, size]`; the new state.
+    fn step(&self, projected: Tensor<2>, state: Tensor<2>) -> Tensor<2>;
+}
+
+/// A GRU cell (PyTorch's equations).
 #[derive(Module, Debug)]
 pub struct GruCell {
     input: Linear,
@@ -132,7 +146,7 @@ pub struct GruCell {
     size: usize,
 }
 
-impl GruCell {
+impl Memory for GruCell {
     fn new(d_in: usize, size: usize, init: &mut Init, device: &Device) -> GruCell {
         GruCell {
             input: init.linear(d_in, 3 * size, 1.0, device),
@@ -141,7 +155,19 @@ impl GruCell {
         }
     }
 
-    /// One step from the input projection `gx = W_i x + b_i` (`[B, 3H]`) and the state.
+    fn size(&self) -> usize {
+        self.size
+    }
+
+    /// `gx = W_i x + b_i` for the reset, update and candidate gates.
+    fn project(&self, x: Tensor<2>) -> Tensor<2> {
+        self.input.forward(x)
+    }
+
+    fn projected_size(&self) -> usize {
+        3 * self.size
+    }
+
     fn step(&self, gx: Tensor<2>, h: Tensor<2>) -> Tensor<2> {
         let n = self.size;
         let gh = self.hidden.forward(h.clone());
@@ -160,19 +186,19 @@ pub struct Output {
     pub values: Tensor<1>,
 }
 
-/// Encoder → Linear → ReLU → GRU → actor and critic heads.
+/// Encoder → Linear → ReLU → memory (a GRU by default) → actor and critic heads.
 #[derive(Module, Debug)]
-pub struct ActorCritic<E: Encoder> {
+pub struct ActorCritic<E: Encoder, M: Memory> {
     encoder: E,
     embed: Linear,
-    gru: GruCell,
+    gru: M,
     actor: Linear,
     critic: Linear,
     #[module(skip)]
     hidden: usize,
 }
 
-impl<E: Encoder> ActorCritic<E> {
+impl<E: Encoder, M: Memory> ActorCritic<E, M> {
     /// A freshly initialised network; a pure function of `seed`.
     pub fn new(config: &TrainConfig, game: &Config, seed: u64, device: &Device) -> Self {
         let mut init = Init::new(seed);
@@ -182,7 +208,7 @@ impl<E: Encoder> ActorCritic<E> {
         ActorCritic {
             embed: init.linear(encoder.output_size(), h, sqrt2, device),
             encoder,
-            gru: GruCell::new(h, h, &mut init, device),
+            gru: M::new(h, h, &mut init, device),
             actor: init.linear(h, game.num_actions(), config.network.actor_gain, device),
             critic: init.linear(h, 1, config.network.critic_gain, device),
             hidden: h,
@@ -196,7 +222,7 @@ impl<E: Encoder> ActorCritic<E> {
 
     fn input_projection(&self, obs: Tensor<2>) -> Tensor<2> {
         let x = relu(self.embed.forward(self.encoder.forward(obs)));
-        self.gru.input.forward(x)
+        self.gru.project(x)
     }
 
     fn heads(&self, h: Tensor<2>) -> Output {
@@ -232,9 +258,11 @@ impl<E: Encoder> ActorCritic<E> {
     /// head can skip rows with a single legal action.
     pub fn unroll(&self, obs: Tensor<3>, h0: Tensor<2>, keep: Tensor<2>) -> Tensor<2> {
         let [b, t, l] = obs.dims();
-        let gx = self
-            .input_projection(obs.reshape([b * t, l]))
-            .reshape([b, t, 3 * self.hidden]);
+        let gx = self.input_projection(obs.reshape([b * t, l])).reshape([
+            b,
+            t,
+            self.gru.projected_size(),
+        ]);
         let mut h = h0;
         let mut states = Vec::with_capacity(t);
         for s in 0..t {

@@ -4,7 +4,7 @@
 use crate::config::{NetworkPreset, TrainConfig};
 use crate::distribution::sample_row;
 use crate::file::Container;
-use crate::network::{ActorCritic, CnnEncoder, Encoder, MlpEncoder};
+use crate::network::{ActorCritic, CnnEncoder, Encoder, GruCell, Memory, MlpEncoder};
 use crate::run::{CHECKPOINT, POLICY};
 use crate::trainer::{default_device, load_model, read_header, FileHeader, TrainError};
 use burn::prelude::*;
@@ -18,8 +18,8 @@ use yokai_vec::Encoding;
 
 #[derive(Clone, Debug)]
 enum Net {
-    Paper(ActorCritic<CnnEncoder>),
-    Compact(ActorCritic<MlpEncoder>),
+    Paper(Box<ActorCritic<CnnEncoder, GruCell>>),
+    Compact(Box<ActorCritic<MlpEncoder, GruCell>>),
 }
 
 /// A trained network loaded from disk, ready to be seated any number of times.
@@ -58,16 +58,16 @@ impl TrainedPolicy {
         let device = default_device();
         let bytes = file.section(&file_path, "model")?;
         let net = match config.network.preset {
-            NetworkPreset::Paper => Net::Paper(load_model(
+            NetworkPreset::Paper => Net::Paper(Box::new(load_model(
                 ActorCritic::new(&config, &game, 0, &device),
                 bytes,
                 &shown,
-            )?),
-            NetworkPreset::Compact => Net::Compact(load_model(
+            )?)),
+            NetworkPreset::Compact => Net::Compact(Box::new(load_model(
                 ActorCritic::new(&config, &game, 0, &device),
                 bytes,
                 &shown,
-            )?),
+            )?)),
         };
         Ok(TrainedPolicy {
             net,
@@ -92,16 +92,16 @@ impl TrainedPolicy {
     /// A fresh seat-holder; `seed` drives its action sampling.
     pub fn build(&self, seed: u64) -> Box<dyn Policy> {
         match &self.net {
-            Net::Paper(m) => Box::new(NetworkPolicy::new(m.clone(), self, seed)),
-            Net::Compact(m) => Box::new(NetworkPolicy::new(m.clone(), self, seed)),
+            Net::Paper(m) => Box::new(NetworkPolicy::new((**m).clone(), self, seed)),
+            Net::Compact(m) => Box::new(NetworkPolicy::new((**m).clone(), self, seed)),
         }
     }
 }
 
 /// One seat played by a network: keeps its GRU state and steps it on every game step,
 /// whoever acts, exactly as in training.
-pub struct NetworkPolicy<E: Encoder> {
-    model: ActorCritic<E>,
+pub struct NetworkPolicy<E: Encoder, M: Memory = GruCell> {
+    model: ActorCritic<E, M>,
     name: String,
     device: Device,
     hidden: Vec<f32>,
@@ -112,8 +112,8 @@ pub struct NetworkPolicy<E: Encoder> {
     rng: ChaCha8Rng,
 }
 
-impl<E: Encoder> NetworkPolicy<E> {
-    fn new(model: ActorCritic<E>, from: &TrainedPolicy, seed: u64) -> Self {
+impl<E: Encoder, M: Memory> NetworkPolicy<E, M> {
+    fn new(model: ActorCritic<E, M>, from: &TrainedPolicy, seed: u64) -> Self {
         let len: usize = E::encoding().shape(&from.game).iter().product();
         NetworkPolicy {
             hidden: vec![0.0; model.hidden_size()],
@@ -155,7 +155,7 @@ impl<E: Encoder> NetworkPolicy<E> {
     }
 }
 
-impl<E: Encoder> Policy for NetworkPolicy<E> {
+impl<E: Encoder, M: Memory> Policy for NetworkPolicy<E, M> {
     fn name(&self) -> String {
         self.name.clone()
     }

@@ -15,7 +15,7 @@ use crate::config::TrainConfig;
 use crate::distribution::{chosen_log_prob, entropy, masked_log_softmax, sample_row};
 use crate::file::{Container, FileError};
 use crate::gae::gae;
-use crate::network::{ActorCritic, Encoder};
+use crate::network::{ActorCritic, Encoder, GruCell, Memory};
 use burn::module::{Module, ModuleMapper, ModuleVisitor, Param};
 use burn::optim::{AdamConfig, GradientsParams, ModuleOptimizer};
 use burn::prelude::*;
@@ -100,14 +100,14 @@ pub struct UpdateStats {
     pub learn_seconds: f64,
 }
 
-/// A training run of one seed, in memory.
-pub struct Trainer<E: Encoder> {
+/// A training run of one seed, in memory: encoder `E`, memory `M` (a GRU unless given).
+pub struct Trainer<E: Encoder, M: Memory = GruCell> {
     config: TrainConfig,
     game: Config,
     seed: u64,
     device: Device,
     infer_device: Device,
-    model: ActorCritic<E>,
+    model: ActorCritic<E, M>,
     optim: ModuleOptimizer,
     env: VecEnv<f32>,
     state: LoopState,
@@ -156,14 +156,14 @@ fn to_vec<const D: usize>(t: Tensor<D>) -> Vec<f32> {
         .expect("f32 tensor data")
 }
 
-impl<E: Encoder> Trainer<E> {
+impl<E: Encoder, M: Memory> Trainer<E, M> {
     /// A new run of `config` with `seed`, from freshly initialised weights.
-    pub fn new(config: TrainConfig, seed: u64) -> Result<Trainer<E>, TrainError> {
+    pub fn new(config: TrainConfig, seed: u64) -> Result<Trainer<E, M>, TrainError> {
         config.validate("config")?;
         let game = config.game_config()?;
         let infer_device = default_device();
         let device = infer_device.clone().autodiff();
-        let model = ActorCritic::<E>::new(&config, &game, derive_seed(seed, 0xC0FFEE), &device);
+        let model = ActorCritic::<E, M>::new(&config, &game, derive_seed(seed, 0xC0FFEE), &device);
         let n = config.ppo.num_envs;
         let p = game.players();
         let mut options = VecEnvOptions::new(n, derive_seed(seed, 0xE5)); // = env_seed()
@@ -220,7 +220,7 @@ impl<E: Encoder> Trainer<E> {
     pub fn is_done(&self) -> bool {
         self.state.update >= self.config.updates()
     }
-    pub fn model(&self) -> &ActorCritic<E> {
+    pub fn model(&self) -> &ActorCritic<E, M> {
         &self.model
     }
     /// The batched games (true frame, before any symmetry).
@@ -642,7 +642,7 @@ impl<E: Encoder> Trainer<E> {
     }
 
     /// Continue a run from a checkpoint written by [`Trainer::checkpoint`].
-    pub fn resume(path: &Path) -> Result<Trainer<E>, TrainError> {
+    pub fn resume(path: &Path) -> Result<Trainer<E, M>, TrainError> {
         let file = Container::read(path)?;
         let header = read_header(&file, path)?;
         if header.kind != "checkpoint" {
@@ -661,7 +661,7 @@ impl<E: Encoder> Trainer<E> {
                 message: format!("holds a {:?} network", config.network.preset),
             });
         }
-        let mut trainer = Trainer::<E>::new(config, header.seed)?;
+        let mut trainer = Trainer::<E, M>::new(config, header.seed)?;
         let shown = path.display().to_string();
         trainer.model = load_model(trainer.model, file.section(path, "model")?, &shown)?;
         let optim = file.section(path, "optimizer")?.to_vec();
