@@ -134,6 +134,11 @@ pub fn default_device() -> Device {
     }
 }
 
+/// The seed of a run's batch of games.
+fn env_seed(run_seed: u64) -> u64 {
+    derive_seed(run_seed, 0xE5)
+}
+
 fn optimizer(config: &TrainConfig) -> ModuleOptimizer {
     AdamConfig::new()
         .with_epsilon(config.ppo.adam_eps as f32)
@@ -166,7 +171,7 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
         let model = ActorCritic::<E, M>::new(&config, &game, derive_seed(seed, 0xC0FFEE), &device);
         let n = config.ppo.num_envs;
         let p = game.players();
-        let mut options = VecEnvOptions::new(n, derive_seed(seed, 0xE5)); // = env_seed()
+        let mut options = VecEnvOptions::new(n, env_seed(seed));
         options.encoding = E::encoding();
         options.threads = (config.run.threads > 0).then_some(config.run.threads);
         let env = VecEnv::<f32>::new(game, options)?;
@@ -288,7 +293,7 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
     }
 
     fn env_seed(&self) -> u64 {
-        derive_seed(self.seed, 0xE5)
+        env_seed(self.seed)
     }
 
     /// The last game of env 0 that finished, as played in training (deal and actions).
@@ -342,6 +347,7 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
         let mut rewards = vec![0f32; t_len * rows];
         let mut dones = vec![0f32; t_len * rows];
         let mut keeps = vec![0f32; t_len * rows];
+        let mut chooses = vec![false; t_len * rows];
         let h0 = self.state.hidden.clone();
         let net = self.model.valid();
         let dev = self.infer_device.clone();
@@ -369,6 +375,7 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
                 let (a, lp, h) = sample_row(&logits[r * na..][..na], &m[r * na..][..na], u, false);
                 actions[t * rows + r] = a;
                 logps[t * rows + r] = lp;
+                chooses[t * rows + r] = m[r * na..][..na].iter().filter(|&&x| x > 0.5).count() > 1;
                 if acting[r / p] as usize == r % p {
                     ent_sum += h as f64;
                     ent_rows += 1;
@@ -450,6 +457,7 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
                         logps: &logps,
                         values: &values,
                         keeps: &keeps,
+                        chooses: &chooses,
                         adv: &adv,
                         returns: &returns,
                         h0: &h0,
@@ -496,40 +504,37 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
         let t_len = c.rollout_steps;
         let bm = batch.len();
         let mut obs = Vec::with_capacity(bm * t_len * l);
-        let mut masks = Vec::with_capacity(bm * t_len * na);
-        let mut one_hot = vec![0f32; bm * t_len * na];
         let mut keep = Vec::with_capacity(bm * t_len);
-        let mut old_logp = Vec::with_capacity(bm * t_len);
         let mut old_v = Vec::with_capacity(bm * t_len);
-        let mut adv = Vec::with_capacity(bm * t_len);
         let mut ret = Vec::with_capacity(bm * t_len);
         let mut h0 = Vec::with_capacity(bm * hsz);
+        // Rows with one legal action (seats waiting for their turn, or a forced NOOP) carry
+        // no policy gradient: the actor head, the policy loss and the entropy skip them, so
+        // their masks and one-hot actions are not even gathered.
+        let mut choosing: Vec<i64> = Vec::new();
+        let mut masks = Vec::new();
+        let mut one_hot = Vec::new();
+        let mut old_logp = Vec::new();
+        let mut adv = Vec::new();
         for (j, &r) in batch.iter().enumerate() {
             h0.extend_from_slice(&ro.h0[r * hsz..][..hsz]);
             for t in 0..t_len {
                 let i = t * rows + r;
                 obs.extend_from_slice(&ro.obs[i * l..][..l]);
-                masks.extend_from_slice(&ro.masks[i * na..][..na]);
-                one_hot[(j * t_len + t) * na + ro.actions[i]] = 1.0;
                 keep.push(ro.keeps[i]);
-                old_logp.push(ro.logps[i]);
                 old_v.push(ro.values[i]);
-                adv.push(ro.adv[i]);
                 ret.push(ro.returns[i]);
+                if ro.chooses[i] {
+                    choosing.push((j * t_len + t) as i64);
+                    masks.extend_from_slice(&ro.masks[i * na..][..na]);
+                    let at = one_hot.len();
+                    one_hot.resize(at + na, 0.0);
+                    one_hot[at + ro.actions[i]] = 1.0;
+                    old_logp.push(ro.logps[i]);
+                    adv.push(ro.adv[i]);
+                }
             }
         }
-        // Rows with one legal action (seats waiting for their turn, or a forced NOOP) carry
-        // no policy gradient: the actor head, the policy loss and the entropy skip them.
-        let choosing: Vec<usize> = (0..bm * t_len)
-            .filter(|&k| masks[k * na..][..na].iter().filter(|&&m| m > 0.5).count() > 1)
-            .collect();
-        let pick = |v: &[f32], width: usize| -> Vec<f32> {
-            choosing
-                .iter()
-                .flat_map(|&k| v[k * width..][..width].iter().copied())
-                .collect()
-        };
-        let mut adv = pick(&adv, 1);
         if c.normalize_advantages && adv.len() > 1 {
             let mean = adv.iter().sum::<f32>() / adv.len() as f32;
             let var = adv.iter().map(|a| (a - mean).powi(2)).sum::<f32>() / adv.len() as f32;
@@ -557,15 +562,14 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
             let zero = Tensor::<1>::zeros([1], d).sum();
             (zero.clone(), zero, 0.0)
         } else {
-            let idx: Vec<i64> = choosing.iter().map(|&k| k as i64).collect();
-            let idx = Tensor::<1, Int>::from_data(TensorData::new(idx, [n]), d);
+            let idx = Tensor::<1, Int>::from_data(TensorData::new(choosing, [n]), d);
             let logits = self.model.policy_logits(states.select(0, idx));
-            let mask = tensor2(pick(&masks, na), [n, na], d);
+            let mask = tensor2(masks, [n, na], d);
             let log_probs = masked_log_softmax(logits, mask.clone());
-            let logp = chosen_log_prob(log_probs.clone(), tensor2(pick(&one_hot, na), [n, na], d));
+            let logp = chosen_log_prob(log_probs.clone(), tensor2(one_hot, [n, na], d));
             let ent = entropy(log_probs, mask).mean();
             let adv = tensor1(adv, d);
-            let delta = logp - tensor1(pick(&old_logp, 1), d);
+            let delta = logp - tensor1(old_logp, d);
             let replay_error = delta.clone().abs().mean().into_scalar::<f32>() as f64;
             let ratio = delta.exp();
             let clipped = ratio.clone().clamp(1.0 - c.clip, 1.0 + c.clip);
@@ -710,6 +714,8 @@ struct Rollout<'a> {
     logps: &'a [f32],
     values: &'a [f32],
     keeps: &'a [f32],
+    /// Whether the row had more than one legal action at that step.
+    chooses: &'a [bool],
     adv: &'a [f32],
     returns: &'a [f32],
     h0: &'a [f32],
