@@ -8,7 +8,10 @@ use yokai_engine::Metrics;
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct MeanSe {
     pub mean: f64,
+    /// 0 when there is a single value (then there is no spread to estimate).
     pub se: f64,
+    /// How many values (seeds or pairs of seeds) the mean is over.
+    pub n: usize,
 }
 
 impl MeanSe {
@@ -23,7 +26,11 @@ impl MeanSe {
         } else {
             (xs.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0) / n).sqrt()
         };
-        Some(MeanSe { mean, se })
+        Some(MeanSe {
+            mean,
+            se,
+            n: xs.len(),
+        })
     }
 }
 
@@ -98,9 +105,14 @@ pub fn summarise(
     }
 }
 
+/// `mean ± SE`, or the mean alone when it rests on one value (an SE of 0 would mislead).
 fn cell(v: Option<MeanSe>, digits: usize) -> String {
     v.map_or("–".into(), |v| {
-        format!("{:.d$} ± {:.d$}", v.mean, v.se, d = digits)
+        if v.n < 2 {
+            format!("{:.d$}", v.mean, d = digits)
+        } else {
+            format!("{:.d$} ± {:.d$}", v.mean, v.se, d = digits)
+        }
     })
 }
 
@@ -192,7 +204,15 @@ mod tests {
         assert_eq!(g.sp.wee.unwrap().mean, 50.0);
         assert_eq!(g.xp.entries, 1);
         assert_eq!(g.xp.reward.unwrap().mean, -2.0);
-        assert!(table_row(&g).starts_with("| m | 2 | 4.00 ± 1.00 | 25.0 ± 25.0 |"));
+        let row = table_row(&g);
+        assert!(
+            row.starts_with("| m | 2 | 4.00 ± 1.00 | 25.0 ± 25.0 |"),
+            "{row}"
+        );
+        assert!(
+            row.contains("| -2.00 |"),
+            "one XP pair: the mean alone, {row}"
+        );
         assert!(paper_rows("9c-2p-perfect").contains("| paper: HE | 12 | 7.5 | 95 |"));
         assert!(paper_rows("16c-2p-perfect").is_empty());
     }
