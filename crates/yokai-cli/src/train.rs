@@ -173,11 +173,12 @@ pub fn run(args: Args) -> Result<(), String> {
         bar.finish_and_clear();
         let last = summary.last.as_ref();
         eprintln!(
-            "seed {seed}: {} updates, {} env steps in {:.0} s ({:.0} SPS); last R {} → {}",
+            "seed {seed}: {} updates, {} env steps ({} now, in {:.0} s: {:.0} SPS); last R {} → {}",
             summary.updates,
             summary.env_steps,
+            summary.env_steps_here,
             summary.seconds,
-            summary.env_steps as f64 / summary.seconds.max(1e-9),
+            summary.env_steps_here as f64 / summary.seconds.max(1e-9),
             last.and_then(|s| s.games)
                 .map_or("–".into(), |m| format!("{:+.2}", m.reward)),
             dir.display()

@@ -24,10 +24,14 @@ pub const METRICS: &str = "metrics.jsonl";
 pub struct RunSummary {
     pub dir: PathBuf,
     pub seed: u64,
+    /// Updates and environment steps of the whole run so far.
     pub updates: u64,
     pub env_steps: u64,
+    /// Environment steps taken by this call (less than `env_steps` after a resume).
+    pub env_steps_here: u64,
     /// The last logged update's figures.
     pub last: Option<UpdateStats>,
+    /// Wall-clock seconds of this call.
     pub seconds: f64,
 }
 
@@ -39,7 +43,9 @@ fn io(path: &Path, e: std::io::Error) -> TrainError {
 }
 
 /// Start a new run of `config` with `seed` in `dir` (which must not hold a run already),
-/// or continue the run in `dir` from its checkpoint when `resume` is set. `on_update` sees
+/// or continue the run in `dir` from its checkpoint when `resume` is set: the checkpoint's
+/// config governs then, except for `ppo.total_steps`, taken from `config` so that a run
+/// can be extended. `on_update` sees
 /// every update (for progress bars). Stops after `max_updates` updates of this call if
 /// given (the run can be resumed later), else at the end of the config's budget.
 pub fn train_run(
@@ -60,7 +66,7 @@ pub fn train_run(
     }
 }
 
-/// The network preset a checkpoint was trained with, read from its header.
+/// The training config a run's checkpoint was written with, read from its header.
 pub fn checkpoint_config(dir: &Path) -> Result<TrainConfig, TrainError> {
     let path = dir.join(CHECKPOINT);
     let file = crate::file::Container::read(&path)?;
@@ -83,7 +89,8 @@ fn run<E: Encoder>(
     let checkpoint = dir.join(CHECKPOINT);
     let metrics_path = dir.join(METRICS);
     let mut trainer = if resume {
-        let t = Trainer::<E>::resume(&checkpoint)?;
+        let mut t = Trainer::<E>::resume(&checkpoint)?;
+        t.set_total_steps(config.ppo.total_steps);
         truncate_metrics(&metrics_path, t.update_count())?;
         t
     } else {
@@ -103,6 +110,7 @@ fn run<E: Encoder>(
         t
     };
     let total = trainer.config().updates();
+    let steps_before = trainer.env_steps();
     let mut log = std::fs::OpenOptions::new()
         .append(true)
         .open(&metrics_path)
@@ -136,6 +144,7 @@ fn run<E: Encoder>(
         seed: trainer.seed(),
         updates: trainer.update_count(),
         env_steps: trainer.env_steps(),
+        env_steps_here: trainer.env_steps() - steps_before,
         last,
         seconds: start.elapsed().as_secs_f64(),
     })

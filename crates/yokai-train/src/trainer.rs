@@ -61,18 +61,19 @@ pub struct FileHeader {
     pub env_steps: u64,
 }
 
-/// The loop state a checkpoint saves beside the network and optimiser.
+/// The loop state a checkpoint saves beside the network and optimiser. Everything else is
+/// derived: environment steps from the update count, each game's episode index from the
+/// environment (filled in only when saving), and where episodes start from the games.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 struct LoopState {
     update: u64,
-    env_steps: u64,
     /// GRU state per row `[rows × H]`.
     hidden: Vec<f32>,
-    /// Per row: 0 when the row's next step starts an episode.
-    keep: Vec<f32>,
-    /// Per game: its episode index and the acting seats' actions so far.
-    episodes: Vec<u64>,
+    /// Per game: the acting seats' actions so far in its current episode.
     history: Vec<Vec<u32>>,
+    /// Per game: its episode index (written to checkpoints; the environment keeps it live).
+    #[serde(default)]
+    episodes: Vec<u64>,
 }
 
 /// One update's figures, for the metrics log and the progress bar.
@@ -183,11 +184,9 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
         let mut trainer = Trainer {
             state: LoopState {
                 update: 0,
-                env_steps: 0,
                 hidden: vec![0.0; n * p * hidden],
-                keep: vec![0.0; n * p],
-                episodes: vec![0; n],
                 history: vec![Vec::new(); n],
+                episodes: Vec::new(),
             },
             row_sym: vec![(Symmetry::identity(&game), Symmetry::identity(&game)); n * p],
             config,
@@ -220,7 +219,12 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
         self.state.update
     }
     pub fn env_steps(&self) -> u64 {
-        self.state.env_steps
+        self.state.update * (self.config.ppo.num_envs * self.config.ppo.rollout_steps) as u64
+    }
+    /// Change the run's budget (e.g. to extend a resumed run). Annealing follows the new
+    /// total from the next update on.
+    pub fn set_total_steps(&mut self, total_steps: u64) {
+        self.config.ppo.total_steps = total_steps;
     }
     pub fn is_done(&self) -> bool {
         self.state.update >= self.config.updates()
@@ -249,14 +253,13 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
     /// episode, a function of (seed, env, episode, seat).
     fn draw_symmetries(&mut self, env: usize) {
         let p = self.game.players();
-        let episode = self.state.episodes[env];
+        let k = self.symmetries.len() as u64;
+        let episode_stream = derive_seed(
+            derive_seed(derive_seed(self.seed, 0x0B), env as u64),
+            self.env.episodes(env),
+        );
         for s in 0..p {
-            let k = self.symmetries.len() as u64;
-            let r = derive_seed(
-                derive_seed(derive_seed(self.seed, 0x0B), env as u64),
-                episode,
-            );
-            let pick = derive_seed(r, s as u64) % k;
+            let pick = derive_seed(episode_stream, s as u64) % k;
             let sym = self.symmetries[pick as usize];
             self.row_sym[env * p + s] = (sym, sym.inverse());
         }
@@ -294,6 +297,15 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
 
     fn env_seed(&self) -> u64 {
         env_seed(self.seed)
+    }
+
+    /// Per row: 0 where the row's next step starts an episode (its game has no step yet),
+    /// which zeroes that row's recurrent state, else 1.
+    fn keeps(&self) -> Vec<f32> {
+        let p = self.game.players();
+        (0..self.rows)
+            .map(|r| (self.env.game(r / p).steps() > 0) as u8 as f32)
+            .collect()
     }
 
     /// The last game of env 0 that finished, as played in training (deal and actions).
@@ -360,11 +372,12 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
                 &mut masks[t * rows * na..][..rows * na],
             );
             self.view(o, m);
-            keeps[t * rows..][..rows].copy_from_slice(&self.state.keep);
+            let keep = self.keeps();
+            keeps[t * rows..][..rows].copy_from_slice(&keep);
             let (out, h) = net.step(
                 tensor2(o.to_vec(), [rows, l], &dev),
                 tensor2(self.state.hidden.clone(), [rows, hsz], &dev),
-                tensor2(self.state.keep.clone(), [rows, 1], &dev),
+                tensor2(keep, [rows, 1], &dev),
             );
             self.state.hidden = to_vec(h);
             let logits = to_vec(out.logits);
@@ -389,7 +402,6 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
                 for s in 0..p {
                     rewards[t * rows + i * p + s] = reward;
                     dones[t * rows + i * p + s] = done as u8 as f32;
-                    self.state.keep[i * p + s] = if done { 0.0 } else { 1.0 };
                 }
                 if done {
                     if let Some(o) = self.env.outcomes()[i] {
@@ -398,11 +410,12 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
                     if i == 0 {
                         let mut actions = std::mem::take(&mut self.state.history[0]);
                         actions.push(joint[acting[0] as usize]);
-                        let seed = episode_seed(self.env_seed(), 0, self.state.episodes[0]);
+                        // The environment has already moved on to the next episode.
+                        let finished = self.env.episodes(0) - 1;
+                        let seed = episode_seed(self.env_seed(), 0, finished);
                         self.last_game = Some((seed, actions));
                     }
                     self.state.history[i].clear();
-                    self.state.episodes[i] += 1;
                     self.draw_symmetries(i);
                 } else {
                     let seat = acting[i] as usize;
@@ -418,7 +431,7 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
         let (last, _) = net.step(
             tensor2(last_obs, [rows, l], &dev),
             tensor2(self.state.hidden.clone(), [rows, hsz], &dev),
-            tensor2(self.state.keep.clone(), [rows, 1], &dev),
+            tensor2(self.keeps(), [rows, 1], &dev),
         );
         let last_values = to_vec(last.values);
         let (adv, returns) = gae(
@@ -473,11 +486,10 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
             }
         }
         self.state.update += 1;
-        self.state.env_steps += (n * t_len) as u64;
         let secs = start.elapsed().as_secs_f64();
         Ok(UpdateStats {
             update: self.state.update,
-            env_steps: self.state.env_steps,
+            env_steps: self.env_steps(),
             sps: (n * t_len) as f64 / secs.max(1e-9),
             games: games.metrics(),
             policy_loss: pl_sum / count as f64,
@@ -597,7 +609,7 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
             game: self.game.to_toml(),
             seed: self.seed,
             update: self.state.update,
-            env_steps: self.state.env_steps,
+            env_steps: self.env_steps(),
         }
     }
 
@@ -639,7 +651,13 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
                 ("optimizer".into(), optim),
                 (
                     "state".into(),
-                    serde_json::to_vec(&self.state).expect("loop state serialises"),
+                    serde_json::to_vec(&LoopState {
+                        episodes: (0..self.config.ppo.num_envs)
+                            .map(|i| self.env.episodes(i))
+                            .collect(),
+                        ..self.state.clone()
+                    })
+                    .expect("loop state serialises"),
                 ),
             ],
         }
@@ -684,7 +702,6 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
             })?;
         let n = trainer.config.ppo.num_envs;
         if state.hidden.len() != trainer.state.hidden.len()
-            || state.keep.len() != trainer.rows
             || state.episodes.len() != n
             || state.history.len() != n
         {

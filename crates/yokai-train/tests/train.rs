@@ -180,9 +180,20 @@ fn a_run_directory_holds_config_metrics_checkpoint_and_a_playable_policy() {
         .contains("already holds a run"));
     let summary = train_run(&config, 0, &dir, true, None, &mut |_, _| {}).unwrap();
     assert_eq!(summary.updates, 3);
+    // A larger budget on resume extends the run.
+    let longer = tiny(SymmetrySet::None, 4);
+    let summary = train_run(&longer, 0, &dir, true, None, &mut |_, _| {}).unwrap();
+    assert_eq!(
+        (summary.updates, summary.env_steps, summary.env_steps_here),
+        (4, 4 * 64, 64)
+    );
     let metrics = read_metrics(&dir).unwrap();
     let updates: Vec<u64> = metrics.iter().map(|m| m.update).collect();
-    assert_eq!(updates, vec![1, 2, 3], "no duplicate lines after a resume");
+    assert_eq!(
+        updates,
+        vec![1, 2, 3, 4],
+        "no duplicate lines after a resume"
+    );
     // Training games are saved at checkpoints and replay under the rules.
     let saved: Vec<_> = std::fs::read_dir(dir.join("replays")).unwrap().collect();
     assert!(!saved.is_empty());
@@ -193,7 +204,7 @@ fn a_run_directory_holds_config_metrics_checkpoint_and_a_playable_policy() {
     }
 
     let policy = TrainedPolicy::load(&dir).unwrap();
-    assert_eq!(policy.header().update, 3);
+    assert_eq!(policy.header().update, 4);
     let game = *policy.game();
     for g in 0..20 {
         let mut seats: Vec<Box<dyn Policy>> = (0..2).map(|s| policy.build(g * 2 + s)).collect();
