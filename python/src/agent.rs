@@ -4,6 +4,7 @@
 use crate::env::PyEnv;
 use crate::errors::{config_error, illegal};
 use pyo3::prelude::*;
+use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use yokai_agents::{Policy, PolicySpec};
 use yokai_engine::{Config, Game, Seat};
@@ -20,8 +21,8 @@ use yokai_train::TrainedPolicy;
 #[pyclass(module = "yokai._core", name = "Agent")]
 pub struct PyAgent {
     name: String,
-    /// The game a trained policy was trained on (`None` for built-in bots).
-    game: Option<Config>,
+    /// A trained policy's file and the game it was trained on (`None` for built-in bots).
+    trained: Option<(PathBuf, Config)>,
     /// A Mutex only to make the class `Sync` for PyO3; methods take `&mut self`.
     policy: Mutex<Box<dyn Policy>>,
 }
@@ -33,13 +34,11 @@ impl PyAgent {
 
     /// A trained network fits only the game it was trained on.
     fn check_game(&self, game: &Game) -> PyResult<()> {
-        match self.game {
-            Some(trained) if trained != *game.config() => Err(config_error(format!(
-                "{} was trained on {trained}, not on {}",
-                self.name,
-                game.config()
-            ))),
-            _ => Ok(()),
+        match &self.trained {
+            Some((path, trained)) => {
+                yokai_train::policy::check_game(path, trained, game.config()).map_err(config_error)
+            }
+            None => Ok(()),
         }
     }
 }
@@ -49,9 +48,10 @@ impl PyAgent {
     #[new]
     #[pyo3(signature = (name, seed=0))]
     fn new(name: &str, seed: u64) -> PyResult<Self> {
-        let (label, game, mut policy) = if std::path::Path::new(name).exists() {
-            let trained = TrainedPolicy::load(std::path::Path::new(name)).map_err(config_error)?;
-            (name.to_string(), Some(*trained.game()), trained.build(seed))
+        let (label, trained, mut policy) = if Path::new(name).exists() {
+            let policy = TrainedPolicy::load(Path::new(name)).map_err(config_error)?;
+            let about = (policy.path().to_path_buf(), *policy.game());
+            (name.to_string(), Some(about), policy.build(seed))
         } else {
             let spec: PolicySpec = name.parse().map_err(config_error)?;
             (spec.to_string(), None, spec.build(seed))
@@ -59,7 +59,7 @@ impl PyAgent {
         policy.reset(seed);
         Ok(PyAgent {
             name: label,
-            game,
+            trained,
             policy: Mutex::new(policy),
         })
     }

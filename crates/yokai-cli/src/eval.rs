@@ -81,12 +81,8 @@ impl Entry {
     /// A trained network fits only the game it was trained on.
     pub fn check_game(&self, config: &Config) -> Result<(), String> {
         match self {
-            Entry::Trained(p) if p.game() != config => Err(format!(
-                "{} was trained on {}, not on {config}: its observations and actions do not fit",
-                p.path().display(),
-                p.game()
-            )),
-            _ => Ok(()),
+            Entry::Trained(p) => p.check_game(config).map_err(|e| e.to_string()),
+            Entry::Builtin(_) => Ok(()),
         }
     }
 }

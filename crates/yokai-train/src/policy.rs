@@ -89,6 +89,11 @@ impl TrainedPolicy {
         &self.path
     }
 
+    /// A trained network fits only the game it was trained on.
+    pub fn check_game(&self, game: &Config) -> Result<(), TrainError> {
+        check_game(&self.path, &self.game, game)
+    }
+
     /// A fresh seat-holder; `seed` drives its action sampling.
     pub fn build(&self, seed: u64) -> Box<dyn Policy> {
         match &self.net {
@@ -96,6 +101,18 @@ impl TrainedPolicy {
             Net::Compact(m) => Box::new(NetworkPolicy::new((**m).clone(), self, seed)),
         }
     }
+}
+
+/// The error for a network trained on `trained` seated in `game`, if they differ.
+pub fn check_game(path: &Path, trained: &Config, game: &Config) -> Result<(), TrainError> {
+    if trained == game {
+        return Ok(());
+    }
+    Err(TrainError::WrongGame {
+        path: path.display().to_string(),
+        trained: trained.to_string(),
+        game: game.to_string(),
+    })
 }
 
 /// One seat played by a network: keeps its GRU state and steps it on every game step,

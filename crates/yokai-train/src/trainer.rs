@@ -45,6 +45,15 @@ pub enum TrainError {
     Record { path: String, message: String },
     #[error("{path}: {message}")]
     Io { path: String, message: String },
+    #[error(
+        "{path} was trained on {trained}, not on {game}: its observations and actions do not fit"
+    )]
+    WrongGame {
+        path: String,
+        /// Names of the games (configs are large for an error value).
+        trained: String,
+        game: String,
+    },
 }
 
 /// What the header of a checkpoint or policy file says.
