@@ -4,7 +4,7 @@
 use crate::svg::render_turn;
 use std::io::{BufRead, IsTerminal, Write};
 use std::path::{Path, PathBuf};
-use yokai_engine::{render_seat, render_truth, Game, Replay, Seat};
+use yokai_engine::{render_seat, render_truth, Action, Game, Replay, Seat};
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -28,19 +28,17 @@ pub fn read(path: &Path) -> Result<Replay, String> {
     Replay::from_jsonl(&text).map_err(|e| format!("{}: {e}", path.display()))
 }
 
-/// Every state of the game (before each action, then the end) with the action taken.
-fn states(replay: &Replay) -> Result<Vec<(Game, Option<String>)>, String> {
+/// A state of the game and, unless it is the last one, who acted in it and how.
+type State = (Game, Option<(Seat, Action)>);
+
+/// Every state of the game (before each action, then the end) with the seat to act and
+/// the action it took.
+fn states(replay: &Replay) -> Result<Vec<State>, String> {
     let mut out = Vec::new();
-    let record = replay.record();
-    let last = record
+    let last = replay
+        .record()
         .replay_with(|before, action, _| {
-            let who = &replay.header.seats.get(before.current_seat().index());
-            let text = format!(
-                "{} ({}) plays: {action}",
-                before.current_seat(),
-                who.map_or("?", |s| s.as_str())
-            );
-            out.push((before.clone(), Some(text)));
+            out.push((before.clone(), Some((before.current_seat(), action))));
         })
         .map_err(|e| e.to_string())?;
     out.push((last, None));
@@ -62,31 +60,35 @@ pub fn run(args: Args) -> Result<(), String> {
             states.len() - 1
         )
     };
-    let pictures = args.svg.is_some() || args.png.is_some();
-    for (dir, kind) in [(&args.svg, "svg"), (&args.png, "png")] {
-        let Some(dir) = dir else { continue };
+    let dirs: Vec<(&PathBuf, &str)> = [(&args.svg, "svg"), (&args.png, "png")]
+        .into_iter()
+        .filter_map(|(dir, kind)| dir.as_ref().map(|d| (d, kind)))
+        .collect();
+    let pictures = !dirs.is_empty();
+    for (dir, _) in &dirs {
         std::fs::create_dir_all(dir)
             .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
-        let mut fonts = None;
-        for (i, (game, action)) in states.iter().enumerate() {
-            let acting = action.as_ref().map(|_| game.current_seat());
-            let act = acting.zip(replay.steps.get(i).map(|s| {
-                config
-                    .decode(s.action as usize)
-                    .expect("the replay was checked")
-            }));
-            let svg = render_turn(game, seat, act, &title(i));
+    }
+    let fonts = args
+        .png
+        .is_some()
+        .then(|| std::sync::Arc::new(crate::plots::system_fonts()));
+    for (i, (game, action)) in states.iter().enumerate() {
+        if !pictures {
+            break;
+        }
+        let svg = render_turn(game, seat, *action, &title(i));
+        for (dir, kind) in &dirs {
             let path = dir.join(format!("turn-{i:03}.{kind}"));
-            let bytes = if kind == "svg" {
-                svg.into_bytes()
-            } else {
-                let db =
-                    fonts.get_or_insert_with(|| std::sync::Arc::new(crate::plots::system_fonts()));
-                crate::plots::png(&svg, db.clone())?
+            let bytes = match &fonts {
+                Some(db) if *kind == "png" => crate::plots::png(&svg, db.clone())?,
+                _ => svg.clone().into_bytes(),
             };
             std::fs::write(&path, bytes)
                 .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
         }
+    }
+    for (dir, kind) in &dirs {
         eprintln!(
             "wrote {} {kind} pictures to {}",
             states.len(),
@@ -106,14 +108,20 @@ pub fn run(args: Args) -> Result<(), String> {
             title(i),
             render_truth(game),
             render_seat(game, seat),
-            action.clone().unwrap_or_else(|| match game.outcome() {
-                Some(o) => format!(
-                    "game over: R = {} ({})",
-                    o.reward,
-                    if o.won { "won" } else { "not won" }
-                ),
-                None => "the record stops here (game not finished)".into(),
-            })
+            action.map_or_else(
+                || match game.outcome() {
+                    Some(o) => format!(
+                        "game over: R = {} ({})",
+                        o.reward,
+                        if o.won { "won" } else { "not won" }
+                    ),
+                    None => "the record stops here (game not finished)".into(),
+                },
+                |(actor, a)| {
+                    let who = replay.header.seats.get(actor.index());
+                    format!("{actor} ({}) plays: {a}", who.map_or("?", |s| s.as_str()))
+                },
+            )
         );
         out.write_all(text.as_bytes()).map_err(|e| e.to_string())?;
         if interactive && i + 1 < states.len() {
