@@ -203,9 +203,18 @@ pub fn smooth(points: &[(f64, f64)], window: usize) -> Vec<(f64, f64)> {
         .collect()
 }
 
-/// The system's fonts, with `sans-serif` mapped to a sans face that exists (fontdb maps
-/// it to Arial, which Linux machines rarely have). Without any font, PNGs have no text.
-pub fn system_fonts() -> resvg::usvg::fontdb::Database {
+/// The system's fonts, loaded once per process (a scan of the font directories), with
+/// `sans-serif` mapped to a sans face that exists (fontdb maps it to Arial, which Linux
+/// machines rarely have). Without any font, PNGs have no text.
+pub fn system_fonts() -> std::sync::Arc<resvg::usvg::fontdb::Database> {
+    static FONTS: std::sync::OnceLock<std::sync::Arc<resvg::usvg::fontdb::Database>> =
+        std::sync::OnceLock::new();
+    FONTS
+        .get_or_init(|| std::sync::Arc::new(load_fonts()))
+        .clone()
+}
+
+fn load_fonts() -> resvg::usvg::fontdb::Database {
     let mut db = resvg::usvg::fontdb::Database::new();
     db.load_system_fonts();
     let families: Vec<String> = db
@@ -254,7 +263,7 @@ pub fn write_both(dir: &std::path::Path, name: &str, svg: &str) -> Result<(), St
         std::fs::write(&path, bytes).map_err(|e| format!("cannot write {}: {e}", path.display()))
     };
     write(format!("{name}.svg"), svg.as_bytes())?;
-    let fonts = std::sync::Arc::new(system_fonts());
+    let fonts = system_fonts();
     write(format!("{name}.png"), &png(svg, fonts)?)
 }
 

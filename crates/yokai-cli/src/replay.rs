@@ -69,10 +69,7 @@ pub fn run(args: Args) -> Result<(), String> {
         std::fs::create_dir_all(dir)
             .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
     }
-    let fonts = args
-        .png
-        .is_some()
-        .then(|| std::sync::Arc::new(crate::plots::system_fonts()));
+    let fonts = args.png.is_some().then(crate::plots::system_fonts);
     for (i, (game, action)) in states.iter().enumerate() {
         if !pictures {
             break;
