@@ -75,7 +75,9 @@ impl PyEnv {
         let shape = encoding.shape(config);
         let mut out = vec![T::ZERO; shape.iter().product()];
         let written = match encoding {
-            Encoding::Image(part) => self.game().write_image(seat, part, &mut out),
+            Encoding::Image(part, layout) => {
+                self.game().write_image_in(seat, part, layout, &mut out)
+            }
             Encoding::Graph(part) => self.game().write_nodes(seat, part, &mut out),
             Encoding::None => {
                 return Err(PyValueError::new_err(

@@ -3,7 +3,7 @@
 
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion};
 use std::hint::black_box;
-use yokai_engine::{Config, Game, ImageEncoder, Part, Scalar, Seat, Substep};
+use yokai_engine::{Config, Game, ImageEncoder, ImageLayout, Part, Scalar, Seat, Substep};
 
 /// Mid-game states at the MOVE substep, reached by deterministic pseudo-random play.
 fn move_states(config: Config, count: usize) -> Vec<Game> {
@@ -32,7 +32,7 @@ fn move_states(config: Config, count: usize) -> Vec<Game> {
 
 fn bench_image<T: Scalar>(c: &mut Criterion, id: &str, states: &[Game]) {
     let config = *states[0].config();
-    let encoder = ImageEncoder::<T>::new(&config);
+    let encoder = ImageEncoder::<T>::new(&config, ImageLayout::Hwc);
     let mut out = vec![T::ZERO; config.image_shape(Part::Full).iter().product()];
     let mut i = 0;
     c.bench_function(id, |b| {

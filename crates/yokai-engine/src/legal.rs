@@ -37,7 +37,41 @@ impl Game {
             "legal mask buffer has the wrong length"
         );
         out.fill(T::ZERO);
+        self.mark_legal_mask(seat, out);
+    }
+
+    /// Set the legal entries of `seat`'s mask to `ONE`, leaving the others as they are: for
+    /// a buffer already zero there (see [`Game::clear_legal_mask`]).
+    #[inline]
+    pub fn mark_legal_mask<T: Scalar>(&self, seat: Seat, out: &mut [T]) {
         self.for_each_legal_index(seat, |i| out[i] = T::ONE);
+    }
+
+    /// Zero every entry that [`Game::write_legal_mask`] can have set to `ONE` in this state:
+    /// the action groups of the current substep for the acting seat, NOOP for the others.
+    /// A batched environment calls this before an action and [`Game::mark_legal_mask`]
+    /// after it, so that a mask costs the few groups that change rather than a clear of all
+    /// N_a entries per seat and step.
+    #[inline]
+    pub fn clear_legal_mask<T: Scalar>(&self, seat: Seat, out: &mut [T]) {
+        if self.is_over() {
+            return;
+        }
+        if seat.0 != self.current {
+            out[0] = T::ZERO;
+            return;
+        }
+        let layout = self.config.action_layout();
+        let y = self.config.cards();
+        match self.substep() {
+            Substep::FirstObserve => out[1..layout.observe + y].fill(T::ZERO),
+            Substep::SecondObserve => out[layout.observe..layout.observe + y].fill(T::ZERO),
+            Substep::Move => {
+                out[0] = T::ZERO;
+                out[layout.movement..layout.reveal].fill(T::ZERO);
+            }
+            Substep::Hint => out[layout.reveal..].fill(T::ZERO),
+        }
     }
 
     /// Call `f` on every legal action of `seat`, in index order.

@@ -94,7 +94,9 @@ pub use deal::{derive_seed, Deal, DealError};
 pub use episode::{DealSource, EpisodeRecord, RecordedGame, ReplayError};
 pub use game::{ActionError, Game, Illegal, LayoutError, Phase, Step, Substep};
 pub use metrics::{Metrics, MetricsAccumulator};
-pub use observation::{BufferError, ImageChannels, ImageEncoder, Part, Scalar};
+pub use observation::{
+    BufferError, ImageChanges, ImageChannels, ImageEncoder, ImageLayout, Part, Scalar,
+};
 pub use render::{render_seat, render_truth};
 pub use replay::{Replay, ReplayFileError, ReplayHeader, ReplayStep, REPLAY_FORMAT};
 pub use scoring::Outcome;

@@ -5,6 +5,12 @@
 //!
 //! Columns `0..g` are the board; column `g` holds one row per hint slot.
 //!
+//! The same values can also be written channels-first, `[F, g, g+1]`
+//! ([`ImageLayout::Chw`]): the order convolution layers in PyTorch and burn take without a
+//! transpose, and the order in which a batched environment updates images in place most
+//! cheaply, because the two broadcast channels are then two contiguous planes instead of two
+//! values on every pixel.
+//!
 //! | channel | board cell | hint column, row h |
 //! |---|---|---|
 //! | `0..C` known colour one-hot | colour of the card here, if this seat sees it | 0 |
@@ -35,9 +41,11 @@
 //! `f32` buffers get the scaled values above. `u8` buffers get the unscaled integers (row,
 //! column, id+1, substep, 0/1), so `f32 = u8 / scale` with [`ImageChannels::scales`].
 
+use crate::action::Action;
+use crate::bitboard::Bitboard;
 use crate::config::Config;
 use crate::game::Game;
-use crate::types::{cards_in, Seat};
+use crate::types::{cards_in, Card, Seat};
 
 /// An element type an observation or mask can be written in.
 pub trait Scalar: Copy + PartialEq + std::fmt::Debug + Send + Sync + 'static {
@@ -157,6 +165,48 @@ pub enum Part {
     Private,
 }
 
+/// Memory order of an image observation (see the module docs). Both hold the same values.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum ImageLayout {
+    /// `[g, g+1, F]`: rows, columns, channels (RULES §5; the default).
+    #[default]
+    Hwc,
+    /// `[F, g, g+1]`: channels, rows, columns.
+    Chw,
+}
+
+/// Element offsets of one step along each image axis.
+#[derive(Clone, Copy, Debug)]
+struct Strides {
+    row: usize,
+    col: usize,
+    channel: usize,
+}
+
+impl Strides {
+    fn new(config: &Config, channels: usize, layout: ImageLayout) -> Strides {
+        let (g, width) = (config.grid(), config.grid() + 1);
+        match layout {
+            ImageLayout::Hwc => Strides {
+                row: width * channels,
+                col: channels,
+                channel: 1,
+            },
+            ImageLayout::Chw => Strides {
+                row: width,
+                col: 1,
+                channel: g * width,
+            },
+        }
+    }
+
+    /// Offset of channel 0 of the pixel at (`row`, `col`).
+    #[inline(always)]
+    fn pixel(&self, row: usize, col: usize) -> usize {
+        row * self.row + col * self.col
+    }
+}
+
 /// A buffer of the wrong length.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 #[error("{what} buffer has length {got}, expected {expected} ({shape})")]
@@ -194,6 +244,15 @@ impl Config {
         };
         [self.grid(), self.grid() + 1, f]
     }
+    /// Shape of the image observation of one seat in `layout`: `[g, g+1, F]` or `[F, g, g+1]`
+    /// (`F` = C for the private part).
+    pub fn image_shape_in(&self, part: Part, layout: ImageLayout) -> [usize; 3] {
+        let [h, w, f] = self.image_shape(part);
+        match layout {
+            ImageLayout::Hwc => [h, w, f],
+            ImageLayout::Chw => [f, h, w],
+        }
+    }
     /// Shape of the graph node features: `[Y+H, F]`, or `[Y, C]` for the private part.
     pub fn node_shape(&self, part: Part) -> [usize; 2] {
         match part {
@@ -209,55 +268,81 @@ impl Config {
 
 /// The image of an empty board: positional channels on every board cell and the two
 /// broadcast channels on every pixel; everything else zero.
-fn write_background<T: Scalar>(config: &Config, my_turn: bool, substep: u8, out: &mut [T]) {
+fn write_background<T: Scalar>(
+    config: &Config,
+    layout: ImageLayout,
+    my_turn: bool,
+    substep: u8,
+    out: &mut [T],
+) {
     let ch = config.image_channels();
+    let s = Strides::new(config, ch.len, layout);
     let g = config.grid();
-    let width = g + 1;
-    let f = ch.len;
     let scale = g as u32 - 1;
     let my_turn = if my_turn { T::ONE } else { T::ZERO };
     let substep = T::ratio(substep as u32, 3);
     out.fill(T::ZERO);
     for r in 0..g {
-        for c in 0..width {
-            let px = &mut out[(r * width + c) * f..][..f];
+        for c in 0..=g {
+            let px = s.pixel(r, c);
             if c < g {
-                px[ch.row] = T::ratio(r as u32, scale);
-                px[ch.col] = T::ratio(c as u32, scale);
+                out[px + ch.row * s.channel] = T::ratio(r as u32, scale);
+                out[px + ch.col * s.channel] = T::ratio(c as u32, scale);
             }
-            px[ch.my_turn] = my_turn;
-            px[ch.substep] = substep;
+            out[px + ch.my_turn * s.channel] = my_turn;
+            out[px + ch.substep * s.channel] = substep;
         }
     }
 }
 
-/// Writes image observations fast: the background (everything that does not depend on
-/// where the cards are) is precomputed for each (is-my-turn, substep) pair, so writing an
-/// observation is one `memcpy` plus the few card and hint pixels, instead of a clear and a
-/// pass over every pixel. Same output as [`Game::write_image`] (tested).
+/// Which pixels of an image (besides the two broadcast channels) an action may change:
+/// computed by [`Game::image_changes`] *before* the action is applied, and handed to
+/// [`ImageEncoder::update`] after it, so a batched environment rewrites a handful of
+/// pixels instead of whole images.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ImageChanges {
+    /// Board cells (bit = row·g + column) whose card pixel may change.
+    pub cells: Bitboard,
+    /// Hint slots whose row of the hint column may change.
+    pub slots: u32,
+    /// The action ends the turn, so "my turn" changes for two seats.
+    pub turn_ends: bool,
+}
+
+/// Writes image observations fast. The background (everything that does not depend on
+/// where the cards are) is precomputed for each (is-my-turn, substep) pair, so a full write
+/// is one `memcpy` plus the card and hint pixels; [`ImageEncoder::update`] goes further and
+/// rewrites only the pixels an action changed. Same output as [`Game::write_image_in`]
+/// (tested).
 #[derive(Clone, Debug)]
 pub struct ImageEncoder<T: Scalar> {
     config: Config,
+    layout: ImageLayout,
     len: usize,
     /// `[my_turn 0/1][substep 0..4]` backgrounds, each `len` long.
     backgrounds: Vec<T>,
 }
 
 impl<T: Scalar> ImageEncoder<T> {
-    pub fn new(config: &Config) -> ImageEncoder<T> {
+    pub fn new(config: &Config, layout: ImageLayout) -> ImageEncoder<T> {
         let len: usize = config.image_shape(Part::Full).iter().product();
         let mut backgrounds = vec![T::ZERO; 8 * len];
         for my_turn in 0..2 {
             for substep in 0..4 {
                 let out = &mut backgrounds[(my_turn * 4 + substep) * len..][..len];
-                write_background(config, my_turn == 1, substep as u8, out);
+                write_background(config, layout, my_turn == 1, substep as u8, out);
             }
         }
         ImageEncoder {
             config: *config,
+            layout,
             len,
             backgrounds,
         }
+    }
+
+    pub fn layout(&self) -> ImageLayout {
+        self.layout
     }
 
     /// Write `seat`'s image of `game` (which must have this encoder's config).
@@ -270,16 +355,84 @@ impl<T: Scalar> ImageEncoder<T> {
         out: &mut [T],
     ) -> Result<(), BufferError> {
         debug_assert_eq!(game.config, self.config);
-        game.write_image_over(seat, part, out, |my_turn, substep, out| {
+        game.write_image_over(seat, part, self.layout, out, |my_turn, substep, out| {
             let index = my_turn as usize * 4 + substep as usize;
             out.copy_from_slice(&self.backgrounds[index * self.len..][..self.len]);
         })
     }
+
+    /// Bring `out`, which holds `seat`'s image of the game one action ago, up to date with
+    /// `game`, given that action's [`ImageChanges`]. Rewrites the broadcast channels and the
+    /// changed pixels only. The private part is small and is rewritten whole.
+    #[inline]
+    pub fn update(
+        &self,
+        game: &Game,
+        seat: Seat,
+        part: Part,
+        changes: ImageChanges,
+        out: &mut [T],
+    ) -> Result<(), BufferError> {
+        if part == Part::Private {
+            return self.write(game, seat, part, out);
+        }
+        check_len(
+            "image observation",
+            out.len(),
+            &self.config.image_shape(part),
+        )?;
+        let config = &self.config;
+        let ch = config.image_channels();
+        let s = Strides::new(config, ch.len, self.layout);
+        let g = config.grid();
+        let substep = T::ratio(game.substep as u32, 3);
+        let my_turn = if seat.0 == game.current && !game.is_over() {
+            T::ONE
+        } else {
+            T::ZERO
+        };
+        let broadcast = |out: &mut [T], channel: usize, value: T| match self.layout {
+            ImageLayout::Chw => out[channel * s.channel..][..s.channel].fill(value),
+            ImageLayout::Hwc => out[channel..]
+                .iter_mut()
+                .step_by(ch.len)
+                .for_each(|v| *v = value),
+        };
+        broadcast(out, ch.substep, substep);
+        if changes.turn_ends {
+            broadcast(out, ch.my_turn, my_turn);
+        }
+        for cell in changes.cells.iter() {
+            clear_pixel(&ch, &s, s.pixel(cell / g, cell % g), out);
+        }
+        let known = game.known_in(seat, part);
+        for k in 0..config.cards() {
+            if changes.cells.contains(game.cell_of[k] as usize) {
+                game.write_card_pixel(k, known, &ch, &s, out);
+            }
+        }
+        let mut slots = changes.slots;
+        while slots != 0 {
+            let slot = slots.trailing_zeros() as usize;
+            slots &= slots - 1;
+            clear_pixel(&ch, &s, s.pixel(slot, g), out);
+            game.write_slot_pixel(slot, &ch, &s, out);
+        }
+        Ok(())
+    }
+}
+
+/// Zero the channels of one pixel that cards and hints set (all but position and broadcast).
+#[inline(always)]
+fn clear_pixel<T: Scalar>(ch: &ImageChannels, s: &Strides, px: usize, out: &mut [T]) {
+    for channel in (ch.known..ch.row).chain(ch.present..ch.my_turn) {
+        out[px + channel * s.channel] = T::ZERO;
+    }
 }
 
 impl Game {
-    /// Write `seat`'s image observation (see the module docs for the layout). Builds the
-    /// background on the fly; batched code uses [`ImageEncoder`], which copies a
+    /// Write `seat`'s image observation `[g, g+1, F]` (see the module docs for the layout).
+    /// Builds the background on the fly; batched code uses [`ImageEncoder`], which copies a
     /// precomputed one.
     pub fn write_image<T: Scalar>(
         &self,
@@ -287,10 +440,48 @@ impl Game {
         part: Part,
         out: &mut [T],
     ) -> Result<(), BufferError> {
+        self.write_image_in(seat, part, ImageLayout::Hwc, out)
+    }
+
+    /// Write `seat`'s image observation in `layout`.
+    pub fn write_image_in<T: Scalar>(
+        &self,
+        seat: Seat,
+        part: Part,
+        layout: ImageLayout,
+        out: &mut [T],
+    ) -> Result<(), BufferError> {
         let config = self.config;
-        self.write_image_over(seat, part, out, |my_turn, substep, out| {
-            write_background(&config, my_turn, substep, out)
+        self.write_image_over(seat, part, layout, out, |my_turn, substep, out| {
+            write_background(&config, layout, my_turn, substep, out)
         })
+    }
+
+    /// Which image pixels `action`, about to be applied, may change (see [`ImageChanges`]).
+    pub fn image_changes(&self, action: Action) -> ImageChanges {
+        let cell = |card: Card| Bitboard::from_index(self.cell_of[card.index()] as usize);
+        let mut changes = ImageChanges::default();
+        match action {
+            Action::Observe(card) => changes.cells = cell(card),
+            Action::Move(card, to) => {
+                changes.cells = cell(card) | Bitboard::from_index(self.config.geometry().index(to))
+            }
+            Action::Reveal => changes.slots = 1 << self.revealed,
+            Action::Place(slot, card) => {
+                changes.cells = cell(card);
+                changes.slots = 1 << slot.index();
+            }
+            Action::Noop | Action::End => {}
+        }
+        if self.substep == 3 {
+            // The turn passes: "observed this turn" (and, with imperfect memory, the colours
+            // the acting seat saw this turn) are cleared.
+            changes.turn_ends = true;
+            for card in cards_in(self.turn_observed) {
+                changes.cells |= cell(card);
+            }
+        }
+        changes
     }
 
     /// The one image writer: checks the buffer, lets `background(my_turn, substep, out)`
@@ -299,6 +490,7 @@ impl Game {
         &self,
         seat: Seat,
         part: Part,
+        layout: ImageLayout,
         out: &mut [T],
         background: impl FnOnce(bool, u8, &mut [T]),
     ) -> Result<(), BufferError> {
@@ -308,71 +500,94 @@ impl Game {
             &self.config.image_shape(part),
         )?;
         if part == Part::Private {
-            self.write_image_private(seat, out);
+            self.write_image_private(seat, layout, out);
             return Ok(());
         }
         background(seat.0 == self.current && !self.is_over(), self.substep, out);
-        self.write_image_pieces(seat, part, out);
+        let ch = self.config.image_channels();
+        let s = Strides::new(&self.config, ch.len, layout);
+        let known = self.known_in(seat, part);
+        for k in 0..self.config.cards() {
+            self.write_card_pixel(k, known, &ch, &s, out);
+        }
+        for slot in 0..self.config.hints() {
+            self.write_slot_pixel(slot, &ch, &s, out);
+        }
         Ok(())
     }
 
-    fn write_image_private<T: Scalar>(&self, seat: Seat, out: &mut [T]) {
+    fn write_image_private<T: Scalar>(&self, seat: Seat, layout: ImageLayout, out: &mut [T]) {
         let g = self.config.grid();
-        let c = self.config.colours();
+        let s = Strides::new(&self.config, self.config.colours(), layout);
         out.fill(T::ZERO);
         for card in cards_in(self.known_cards(seat)) {
             let cell = self.cell_of[card.index()] as usize;
-            out[((cell / g) * (g + 1) + cell % g) * c + self.colour_of[card.index()].index()] =
-                T::ONE;
+            let colour = self.colour_of[card.index()].index();
+            out[s.pixel(cell / g, cell % g) + colour * s.channel] = T::ONE;
         }
     }
 
-    /// The sparse part of the image: card pixels and hint-column rows, written over a
-    /// background that already holds the positional and broadcast channels.
+    /// The cards whose colour `part` of `seat`'s observation shows.
     #[inline]
-    fn write_image_pieces<T: Scalar>(&self, seat: Seat, part: Part, out: &mut [T]) {
-        let config = &self.config;
-        let ch = config.image_channels();
-        let g = config.grid();
-        let width = g + 1;
-        let f = ch.len;
-        let y = config.cards() as u32;
-        let known = if part == Part::Full {
+    fn known_in(&self, seat: Seat, part: Part) -> u32 {
+        if part == Part::Full {
             self.known_cards(seat)
         } else {
             0
-        };
-        for k in 0..config.cards() {
-            let bit = 1u32 << k;
-            let cell = self.cell_of[k] as usize;
-            let px = &mut out[((cell / g) * width + cell % g) * f..][..f];
-            px[ch.present] = T::ONE;
-            px[ch.id] = T::ratio(k as u32 + 1, y);
-            if known & bit != 0 {
-                px[ch.known + self.colour_of[k].index()] = T::ONE;
-            }
-            if self.hinted & bit != 0 {
-                px[ch.hinted] = T::ONE;
-                for colour in self.hint_colours[self.card_hint[k] as usize].colours() {
-                    px[ch.hint + colour.index()] = T::ONE;
-                }
-            }
-            if self.turn_observed & bit != 0 {
-                px[ch.observed] = T::ONE;
+        }
+    }
+
+    /// Write card `k`'s pixel over one whose card channels are zero.
+    #[inline(always)]
+    fn write_card_pixel<T: Scalar>(
+        &self,
+        k: usize,
+        known: u32,
+        ch: &ImageChannels,
+        s: &Strides,
+        out: &mut [T],
+    ) {
+        let g = self.config.grid();
+        let bit = 1u32 << k;
+        let cell = self.cell_of[k] as usize;
+        let px = s.pixel(cell / g, cell % g);
+        let mut set = |channel: usize, value: T| out[px + channel * s.channel] = value;
+        set(ch.present, T::ONE);
+        set(ch.id, T::ratio(k as u32 + 1, self.config.cards() as u32));
+        if known & bit != 0 {
+            set(ch.known + self.colour_of[k].index(), T::ONE);
+        }
+        if self.hinted & bit != 0 {
+            set(ch.hinted, T::ONE);
+            for colour in self.hint_colours[self.card_hint[k] as usize].colours() {
+                set(ch.hint + colour.index(), T::ONE);
             }
         }
-        for slot in 0..config.hints() {
-            let px = &mut out[(slot * width + g) * f..][..f];
-            if slot < self.revealed as usize {
-                for colour in self.hint_colours[slot].colours() {
-                    px[ch.hint + colour.index()] = T::ONE;
-                }
-            } else {
-                px[ch.present] = T::ONE;
+        if self.turn_observed & bit != 0 {
+            set(ch.observed, T::ONE);
+        }
+    }
+
+    /// Write hint slot `slot`'s row of the hint column over one whose card channels are zero.
+    #[inline(always)]
+    fn write_slot_pixel<T: Scalar>(
+        &self,
+        slot: usize,
+        ch: &ImageChannels,
+        s: &Strides,
+        out: &mut [T],
+    ) {
+        let px = s.pixel(slot, self.config.grid());
+        let mut set = |channel: usize| out[px + channel * s.channel] = T::ONE;
+        if slot < self.revealed as usize {
+            for colour in self.hint_colours[slot].colours() {
+                set(ch.hint + colour.index());
             }
-            if self.hint_card[slot] != u8::MAX {
-                px[ch.hinted] = T::ONE;
-            }
+        } else {
+            set(ch.present);
+        }
+        if self.hint_card[slot] != u8::MAX {
+            set(ch.hinted);
         }
     }
 

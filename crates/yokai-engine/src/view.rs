@@ -11,7 +11,7 @@ use crate::action::Action;
 use crate::bitboard::{Bitboard, Cell};
 use crate::config::Config;
 use crate::game::{Game, Phase, Substep};
-use crate::observation::{BufferError, Part, Scalar};
+use crate::observation::{BufferError, ImageLayout, Part, Scalar};
 use crate::types::{Card, Colour, ColourSet, HintSlot, Seat};
 
 /// The public facts of a game (RULES §5): positions, hints, turns, which cards were
@@ -177,6 +177,14 @@ impl<'a> SeatView<'a> {
     }
     pub fn write_image<T: Scalar>(&self, part: Part, out: &mut [T]) -> Result<(), BufferError> {
         self.game().write_image(self.seat, part, out)
+    }
+    pub fn write_image_in<T: Scalar>(
+        &self,
+        part: Part,
+        layout: ImageLayout,
+        out: &mut [T],
+    ) -> Result<(), BufferError> {
+        self.game().write_image_in(self.seat, part, layout, out)
     }
     pub fn write_nodes<T: Scalar>(&self, part: Part, out: &mut [T]) -> Result<(), BufferError> {
         self.game().write_nodes(self.seat, part, out)

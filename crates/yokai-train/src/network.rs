@@ -12,7 +12,7 @@ use burn::nn::conv::Conv2d;
 use burn::nn::Linear;
 use burn::prelude::*;
 use burn::tensor::activation::{relu, sigmoid, tanh};
-use yokai_engine::{Config, Part};
+use yokai_engine::{Config, ImageLayout, Part};
 use yokai_vec::Encoding;
 
 /// Maps a batch of flattened observations `[B, L]` to embeddings `[B, output_size]`.
@@ -41,7 +41,7 @@ pub struct CnnEncoder {
 impl Encoder for CnnEncoder {
     const PRESET: NetworkPreset = NetworkPreset::Paper;
     fn encoding() -> Encoding {
-        Encoding::Image(Part::Full)
+        Encoding::Image(Part::Full, ImageLayout::Hwc)
     }
     fn new(config: &TrainConfig, game: &Config, init: &mut Init, device: &Device) -> Self {
         let shape = game.image_shape(Part::Full);

@@ -147,7 +147,7 @@ impl<E: Encoder, M: Memory> NetworkPolicy<E, M> {
     /// Step the memory on `view` and return the logits.
     fn step(&mut self, view: &SeatView<'_>) -> Vec<f32> {
         match E::encoding() {
-            Encoding::Image(part) => view.write_image(part, &mut self.obs),
+            Encoding::Image(part, layout) => view.write_image_in(part, layout, &mut self.obs),
             Encoding::Graph(part) => view.write_nodes(part, &mut self.obs),
             Encoding::None => Ok(()),
         }

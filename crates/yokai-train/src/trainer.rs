@@ -26,7 +26,8 @@ use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 use yokai_engine::{
-    derive_seed, Config, EpisodeRecord, Metrics, MetricsAccumulator, RecordedGame, Symmetry,
+    derive_seed, Config, EpisodeRecord, ImageLayout, Metrics, MetricsAccumulator, RecordedGame,
+    Symmetry,
 };
 use yokai_vec::{episode_seed, Encoding, VecEnv, VecEnvOptions, VecError};
 
@@ -294,7 +295,12 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
                 continue;
             }
             match E::encoding() {
-                Encoding::Image(part) => sym.apply_image(&self.game, part, o_in, o_out),
+                Encoding::Image(part, ImageLayout::Hwc) => {
+                    sym.apply_image(&self.game, part, o_in, o_out)
+                }
+                Encoding::Image(_, ImageLayout::Chw) => {
+                    unreachable!("the trainer's encoders read the HWC image of RULES §5")
+                }
                 Encoding::Graph(part) => sym.apply_nodes(&self.game, part, o_in, o_out),
                 Encoding::None => Ok(()),
             }

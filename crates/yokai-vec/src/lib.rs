@@ -35,14 +35,16 @@
 
 use rayon::prelude::*;
 use yokai_engine::{
-    derive_seed, ActionError, Config, Game, ImageEncoder, Outcome, Part, Scalar, Seat,
+    derive_seed, ActionError, Config, Game, ImageChanges, ImageEncoder, ImageLayout, Outcome, Part,
+    Scalar, Seat,
 };
 
 /// Which observation the environment writes for every seat.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Encoding {
-    /// Image `[g, g+1, F]` (or `[g, g+1, C]` for the private part).
-    Image(Part),
+    /// Image `[g, g+1, F]` (or `[g, g+1, C]` for the private part), or channels-first
+    /// `[F, g, g+1]` with [`ImageLayout::Chw`].
+    Image(Part, ImageLayout),
     /// Graph node features `[Y+H, F]` (or `[Y, C]` for private), plus the adjacency buffer.
     Graph(Part),
     /// No observation (masks and rewards only), e.g. for scripted policies.
@@ -53,7 +55,7 @@ impl Encoding {
     /// Shape of one seat's observation.
     pub fn shape(&self, config: &Config) -> Vec<usize> {
         match self {
-            Encoding::Image(part) => config.image_shape(*part).to_vec(),
+            Encoding::Image(part, layout) => config.image_shape_in(*part, *layout).to_vec(),
             Encoding::Graph(part) => config.node_shape(*part).to_vec(),
             Encoding::None => vec![0],
         }
@@ -63,20 +65,26 @@ impl Encoding {
         self.shape(config).iter().product()
     }
 
-    /// Parse `image`, `image-public`, `image-private`, `graph`, `graph-public`,
+    /// Parse `image`, `image-public`, `image-private` (each with an optional `-chw` for the
+    /// channels-first layout, e.g. `image-public-chw`), `graph`, `graph-public`,
     /// `graph-private` or `none`.
     pub fn parse(name: &str) -> Result<Encoding, VecError> {
-        let (kind, part) = match name.split_once('-') {
+        let unknown = || VecError::Encoding(name.to_string());
+        let (rest, layout) = match name.strip_suffix("-chw") {
+            Some(rest) => (rest, ImageLayout::Chw),
+            None => (name, ImageLayout::Hwc),
+        };
+        let (kind, part) = match rest.split_once('-') {
             Some((k, "public")) => (k, Part::Public),
             Some((k, "private")) => (k, Part::Private),
-            Some(_) => ("?", Part::Full),
-            None => (name, Part::Full),
+            Some(_) => return Err(unknown()),
+            None => (rest, Part::Full),
         };
-        match kind {
-            "image" => Ok(Encoding::Image(part)),
-            "graph" => Ok(Encoding::Graph(part)),
-            "none" if part == Part::Full => Ok(Encoding::None),
-            _ => Err(VecError::Encoding(name.to_string())),
+        match (kind, part, layout) {
+            ("image", _, _) => Ok(Encoding::Image(part, layout)),
+            ("graph", _, ImageLayout::Hwc) => Ok(Encoding::Graph(part)),
+            ("none", Part::Full, ImageLayout::Hwc) => Ok(Encoding::None),
+            _ => Err(unknown()),
         }
     }
 }
@@ -102,7 +110,7 @@ pub enum VecError {
     FinishedOnRestore { env: usize },
     #[error("num_envs must be at least 1")]
     NoEnvs,
-    #[error("unknown observation encoding `{0}` (expected image, image-public, image-private, graph, graph-public, graph-private or none)")]
+    #[error("unknown observation encoding `{0}` (expected image, image-public, image-private, the same with -chw for channels-first, graph, graph-public, graph-private or none)")]
     Encoding(String),
     #[error("could not start {threads} worker threads: {message}")]
     Threads { threads: usize, message: String },
@@ -131,7 +139,7 @@ impl VecEnvOptions {
         VecEnvOptions {
             num_envs,
             seed,
-            encoding: Encoding::Image(Part::Full),
+            encoding: Encoding::Image(Part::Full, ImageLayout::Hwc),
             threads: None,
             chunk: 32,
         }
@@ -216,7 +224,13 @@ impl<T: Scalar + Default> VecEnv<T> {
             acting: vec![0; n],
             outcomes: vec![None; n],
             scratch: vec![0; n],
-            image: ImageEncoder::new(&config),
+            image: ImageEncoder::new(
+                &config,
+                match options.encoding {
+                    Encoding::Image(_, layout) => layout,
+                    _ => ImageLayout::Hwc,
+                },
+            ),
             sizes,
             pool,
         };
@@ -392,6 +406,8 @@ impl<T: Scalar + Default> VecEnv<T> {
                             let action = config
                                 .decode(actions[j] as usize)
                                 .expect("validated against the legal mask");
+                            let changes = slot.game.image_changes(action);
+                            clear_masks(&slot.game, sizes, j, masks);
                             let step = slot.game.apply_unchecked(action);
                             rewards[j] = step.reward as f32;
                             shaping[j] = step.shaping as f32;
@@ -403,10 +419,15 @@ impl<T: Scalar + Default> VecEnv<T> {
                                 let env = chunk * c + j;
                                 slot.game =
                                     Game::new(config, episode_seed(seed, env, slot.episode));
+                                write_env(
+                                    &slot.game, image, encoding, sizes, j, obs, adj, masks, acting,
+                                );
+                            } else {
+                                update_env(
+                                    &slot.game, image, encoding, sizes, j, changes, obs, adj,
+                                    masks, acting,
+                                );
                             }
-                            write_env(
-                                &slot.game, image, encoding, sizes, j, obs, adj, masks, acting,
-                            );
                         }
                     },
                 );
@@ -568,6 +589,50 @@ fn nth_set(mask: &[u8], mut k: u32) -> usize {
     unreachable!("k is below the number of set bytes")
 }
 
+/// Zero the mask entries of game `j` of a chunk that its current state has set, before an
+/// action (see [`Game::clear_legal_mask`]).
+#[inline]
+fn clear_masks(game: &Game, sizes: Sizes, j: usize, masks: &mut [u8]) {
+    for s in 0..sizes.players {
+        let mask = &mut masks[(j * sizes.players + s) * sizes.actions..][..sizes.actions];
+        game.clear_legal_mask(Seat(s as u8), mask);
+    }
+}
+
+/// Bring the buffers of game `j` of a chunk up to date after one action that did not end
+/// it: masks were cleared by [`clear_masks`] and images change only where `changes` says.
+/// Same result as [`write_env`] (the equivalence tests compare every buffer every step).
+#[allow(clippy::too_many_arguments)]
+#[inline]
+fn update_env<T: Scalar>(
+    game: &Game,
+    image: &ImageEncoder<T>,
+    encoding: Encoding,
+    sizes: Sizes,
+    j: usize,
+    changes: ImageChanges,
+    obs: &mut [T],
+    adj: &mut [T],
+    masks: &mut [u8],
+    acting: &mut [u8],
+) {
+    let Encoding::Image(part, _) = encoding else {
+        return write_env(game, image, encoding, sizes, j, obs, adj, masks, acting);
+    };
+    acting[j] = game.current_seat().0;
+    for s in 0..sizes.players {
+        let seat = Seat(s as u8);
+        let o = &mut obs[(j * sizes.players + s) * sizes.obs..][..sizes.obs];
+        image
+            .update(game, seat, part, changes, o)
+            .expect("buffers are sized from the same config");
+        game.mark_legal_mask(
+            seat,
+            &mut masks[(j * sizes.players + s) * sizes.actions..][..sizes.actions],
+        );
+    }
+}
+
 /// Write observations, adjacency, masks and acting seat of game `j` of a chunk.
 #[allow(clippy::too_many_arguments)]
 #[inline]
@@ -587,7 +652,7 @@ fn write_env<T: Scalar>(
         let seat = Seat(s as u8);
         let o = &mut obs[(j * sizes.players + s) * sizes.obs.max(1)..][..sizes.obs];
         let written = match encoding {
-            Encoding::Image(part) => image.write(game, seat, part, o),
+            Encoding::Image(part, _) => image.write(game, seat, part, o),
             Encoding::Graph(part) => game.write_nodes(seat, part, o),
             Encoding::None => Ok(()),
         };

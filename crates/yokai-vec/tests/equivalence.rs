@@ -1,7 +1,7 @@
 //! The batched environment equals N independent single games with the same seeds: every
 //! buffer, every step, across auto-resets, for 1 and 2 threads.
 
-use yokai_engine::{Action, Config, Game, Part, Scalar, Seat};
+use yokai_engine::{Action, Config, Game, ImageLayout, Part, Scalar, Seat};
 use yokai_vec::{episode_seed, Encoding, VecEnv, VecEnvOptions, VecError};
 
 /// Deterministic "random" choice among the legal actions of the acting seat.
@@ -42,7 +42,9 @@ fn run<T: Scalar + Default>(config: Config, encoding: Encoding, threads: usize, 
                 );
                 let mut o = vec![T::ZERO; obs_len];
                 match encoding {
-                    Encoding::Image(part) => game.write_image(seat, part, &mut o).unwrap(),
+                    Encoding::Image(part, layout) => {
+                        game.write_image_in(seat, part, layout, &mut o).unwrap()
+                    }
                     Encoding::Graph(part) => game.write_nodes(seat, part, &mut o).unwrap(),
                     Encoding::None => {}
                 }
@@ -89,7 +91,7 @@ fn batched_equals_single_games_image_f32_on_one_and_two_threads() {
     for threads in [1, 2] {
         run::<f32>(
             Config::from_name("9c-2p").unwrap(),
-            Encoding::Image(Part::Full),
+            Encoding::Image(Part::Full, ImageLayout::Hwc),
             threads,
             120,
         );
@@ -101,15 +103,39 @@ fn batched_equals_single_games_image_u8_more_players_and_16c() {
     for threads in [1, 2] {
         run::<u8>(
             Config::from_name("9c-3p-imperfect").unwrap(),
-            Encoding::Image(Part::Full),
+            Encoding::Image(Part::Full, ImageLayout::Hwc),
             threads,
             100,
         );
         run::<u8>(
             Config::from_name("16c-2p").unwrap(),
-            Encoding::Image(Part::Public),
+            Encoding::Image(Part::Public, ImageLayout::Hwc),
             threads,
             100,
+        );
+    }
+}
+
+#[test]
+fn batched_equals_single_games_channels_first_images() {
+    for threads in [1, 2] {
+        run::<f32>(
+            Config::from_name("9c-2p-imperfect").unwrap(),
+            Encoding::Image(Part::Full, ImageLayout::Chw),
+            threads,
+            120,
+        );
+        run::<u8>(
+            Config::from_name("16c-3p").unwrap(),
+            Encoding::Image(Part::Public, ImageLayout::Chw),
+            threads,
+            100,
+        );
+        run::<u8>(
+            Config::from_name("9c-2p").unwrap(),
+            Encoding::Image(Part::Private, ImageLayout::Chw),
+            threads,
+            80,
         );
     }
 }
@@ -197,12 +223,17 @@ fn sampled_actions_are_legal_and_deterministic() {
 fn encodings_parse() {
     assert_eq!(
         Encoding::parse("image").unwrap(),
-        Encoding::Image(Part::Full)
+        Encoding::Image(Part::Full, ImageLayout::Hwc)
     );
     assert_eq!(
         Encoding::parse("graph-private").unwrap(),
         Encoding::Graph(Part::Private)
     );
+    assert_eq!(
+        Encoding::parse("image-public-chw").unwrap(),
+        Encoding::Image(Part::Public, ImageLayout::Chw)
+    );
+    assert!(Encoding::parse("graph-chw").is_err());
     assert!(Encoding::parse("image-secret").is_err());
     assert!(Encoding::parse("pixels").is_err());
 }

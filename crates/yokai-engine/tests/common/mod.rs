@@ -366,6 +366,9 @@ pub fn play_checked(
         let action = player.pick(&game);
         let seat = game.current_seat().index();
         let step = recorded.apply(action).unwrap();
+        if deep && !step.done {
+            check_incremental(&game, action, recorded.game());
+        }
         let twin_step = twin.apply(sym.apply_action(&config, action)).unwrap();
         assert_eq!(step, twin_step, "the symmetric game scored differently");
         let expected_shaping = match action {
@@ -409,6 +412,48 @@ pub fn play_checked(
     assert_eq!(last, *states.last().unwrap());
     let len = states.len() - 1;
     (record, len)
+}
+
+/// Updating the buffers of the state before `action` in place (what batched environments do)
+/// gives exactly the full writes of the state after it: images in both layouts, every part
+/// and element type, and legal masks.
+fn check_incremental(before: &Game, action: Action, after: &Game) {
+    fn images<T: Scalar + Default>(before: &Game, action: Action, after: &Game) {
+        let config = *before.config();
+        let changes = before.image_changes(action);
+        for layout in [ImageLayout::Hwc, ImageLayout::Chw] {
+            let encoder = ImageEncoder::<T>::new(&config, layout);
+            for part in [Part::Full, Part::Public, Part::Private] {
+                let n: usize = config.image_shape(part).iter().product();
+                for s in 0..config.players() {
+                    let seat = Seat(s as u8);
+                    let (mut updated, mut full) = (vec![T::ZERO; n], vec![T::ZERO; n]);
+                    encoder.write(before, seat, part, &mut updated).unwrap();
+                    encoder
+                        .update(after, seat, part, changes, &mut updated)
+                        .unwrap();
+                    after.write_image_in(seat, part, layout, &mut full).unwrap();
+                    assert!(
+                        updated == full,
+                        "{layout:?} {part:?} image of {seat} after {action} differs when updated in place"
+                    );
+                }
+            }
+        }
+    }
+    images::<u8>(before, action, after);
+    images::<f32>(before, action, after);
+    let n_a = before.config().num_actions();
+    for s in 0..before.config().players() {
+        let seat = Seat(s as u8);
+        let (mut updated, mut full) = (vec![0u8; n_a], vec![0u8; n_a]);
+        before.write_legal_mask(seat, &mut updated);
+        before.clear_legal_mask(seat, &mut updated);
+        assert!(updated.iter().all(|&m| m == 0), "clear left a legal bit");
+        after.mark_legal_mask(seat, &mut updated);
+        after.write_legal_mask(seat, &mut full);
+        assert_eq!(updated, full, "mask of {seat} after {action}");
+    }
 }
 
 /// The observations of `game` mapped by `sym` equal the twin's observations (equivariance),
@@ -456,6 +501,22 @@ fn check_observations(game: &Game, twin: &Game, sym: &Symmetry, seat: Seat) {
         assert_eq!(t, b, "nodes {part:?} not equivariant");
         inv.apply_nodes(&config, part, &t, &mut back).unwrap();
         assert_eq!(back, a);
+    }
+    // Channels-first holds the same values as the spec's [g, g+1, F], transposed.
+    for part in [Part::Full, Part::Public, Part::Private] {
+        let [h, w, f] = config.image_shape(part);
+        assert_eq!(config.image_shape_in(part, ImageLayout::Chw), [f, h, w]);
+        let (mut hwc, mut chw) = (vec![0f32; h * w * f], vec![0f32; h * w * f]);
+        game.write_image(seat, part, &mut hwc).unwrap();
+        game.write_image_in(seat, part, ImageLayout::Chw, &mut chw)
+            .unwrap();
+        for r in 0..h {
+            for c in 0..w {
+                for k in 0..f {
+                    assert_eq!(chw[(k * h + r) * w + c], hwc[(r * w + c) * f + k]);
+                }
+            }
+        }
     }
     // Public = Full with the known-colour channels zeroed.
     let n: usize = config.image_shape(Part::Full).iter().product();
