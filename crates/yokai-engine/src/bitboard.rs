@@ -239,6 +239,26 @@ impl Geometry {
         }
     }
 
+    /// Which of the 8 cells around `index` are in `set`, as bits in ring order N, NE, E, SE,
+    /// S, SW, W, NW (consecutive cells of the ring share a side). Cells off the grid are out.
+    #[inline(always)]
+    pub fn ring(&self, index: usize, set: Bitboard) -> u8 {
+        let g = self.side() as isize;
+        let (r, c) = (index as isize / g, index as isize % g);
+        let at = |dr: isize, dc: isize| -> u8 {
+            let (rr, cc) = (r + dr, c + dc);
+            (rr >= 0 && cc >= 0 && rr < g && cc < g && set.contains((rr * g + cc) as usize)) as u8
+        };
+        at(-1, 0)
+            | at(-1, 1) << 1
+            | at(0, 1) << 2
+            | at(1, 1) << 3
+            | at(1, 0) << 4
+            | at(1, -1) << 5
+            | at(0, -1) << 6
+            | at(-1, -1) << 7
+    }
+
     /// Whether `set` is one 4-connected group (the empty set counts as connected).
     #[inline]
     pub fn is_connected(&self, set: Bitboard) -> bool {
@@ -246,9 +266,102 @@ impl Geometry {
     }
 }
 
+/// For each [`Geometry::ring`] pattern around a cell: whether the pattern's side neighbours
+/// (N, E, S, W) are linked to each other within the ring. If they are, taking the cell away
+/// cannot split a connected set that contains it, since any path through the cell can go
+/// around it instead; so move generation needs no flood fill for such a card.
+pub const RING_KEEPS_CONNECTED: [bool; 256] = ring_table();
+
+const fn ring_table() -> [bool; 256] {
+    let mut table = [false; 256];
+    let mut pattern = 0;
+    while pattern < 256 {
+        // Label the runs of consecutive set bits on the cyclic ring of 8.
+        let mut run_of = [0u8; 8];
+        let mut run = 0u8;
+        let mut start = 0;
+        // Start just after an unset bit so that no run wraps across the start (if all 8
+        // bits are set there is one run).
+        while start < 8 && pattern >> start & 1 == 1 {
+            start += 1;
+        }
+        let mut i = 0;
+        while i < 8 {
+            let bit = (start + 1 + i) % 8;
+            if pattern >> bit & 1 == 1 {
+                if i == 0 || pattern >> ((bit + 7) % 8) & 1 == 0 {
+                    run += 1;
+                }
+                run_of[bit] = run;
+            }
+            i += 1;
+        }
+        let mut side_run = 0u8;
+        let mut linked = true;
+        let mut side = 0;
+        while side < 8 {
+            if pattern >> side & 1 == 1 {
+                if side_run == 0 {
+                    side_run = run_of[side];
+                } else if run_of[side] != side_run {
+                    linked = false;
+                }
+            }
+            side += 2;
+        }
+        table[pattern] = linked;
+        pattern += 1;
+    }
+    table
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_cell_whose_ring_links_its_neighbours_never_splits_a_group() {
+        // Exhaustive over the 3×3 block around a centre cell on a 5×5 grid: for every
+        // connected set in the block that contains the centre, the rest stays connected
+        // exactly when the table says the ring links the side neighbours (inside the block
+        // there is no other way around).
+        let geo = Geometry::new(5);
+        let centre = geo.index(Cell::new(2, 2));
+        let ring_cells = [
+            (1, 2),
+            (1, 3),
+            (2, 3),
+            (3, 3),
+            (3, 2),
+            (3, 1),
+            (2, 1),
+            (1, 1),
+        ];
+        let (mut kept, mut refused) = (0, 0);
+        for pattern in 0..256usize {
+            let mut set = Bitboard::from_index(centre);
+            for (i, &(r, c)) in ring_cells.iter().enumerate() {
+                if pattern >> i & 1 == 1 {
+                    set |= Bitboard::from_index(geo.index(Cell::new(r, c)));
+                }
+            }
+            assert_eq!(geo.ring(centre, set) as usize, pattern);
+            if !geo.is_connected(set) {
+                continue;
+            }
+            let rest = set ^ Bitboard::from_index(centre);
+            if RING_KEEPS_CONNECTED[pattern] {
+                assert!(geo.is_connected(rest), "pattern {pattern:08b}");
+                kept += 1;
+            } else {
+                assert!(!geo.is_connected(rest), "pattern {pattern:08b}");
+                refused += 1;
+            }
+        }
+        assert!(kept > 0 && refused > 0);
+        // Off-grid cells are out of the ring.
+        assert_eq!(geo.ring(0, geo.board()), 0b0001_1100);
+    }
 
     #[test]
     fn neighbours_do_not_wrap_around_rows() {

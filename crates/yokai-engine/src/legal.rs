@@ -10,7 +10,7 @@
 //! it skips the fill. Each group costs one bitboard flood fill (a few shift/mask rounds).
 
 use crate::action::Action;
-use crate::bitboard::Bitboard;
+use crate::bitboard::{Bitboard, RING_KEEPS_CONNECTED};
 use crate::game::{Game, Substep};
 use crate::observation::Scalar;
 use crate::types::{cards_in, Card, Seat};
@@ -47,31 +47,35 @@ impl Game {
         self.for_each_legal_index(seat, |i| out[i] = T::ONE);
     }
 
-    /// Zero every entry that [`Game::write_legal_mask`] can have set to `ONE` in this state:
-    /// the action groups of the current substep for the acting seat, NOOP for the others.
-    /// A batched environment calls this before an action and [`Game::mark_legal_mask`]
-    /// after it, so that a mask costs the few groups that change rather than a clear of all
-    /// N_a entries per seat and step.
+    /// The range of action indices where `seat`'s legal actions lie in this state: the
+    /// action groups of the current substep for the acting seat, NOOP for the others, empty
+    /// once the game is over. Outside it the mask is zero, so callers can clear or scan this
+    /// range instead of all N_a entries.
     #[inline]
-    pub fn clear_legal_mask<T: Scalar>(&self, seat: Seat, out: &mut [T]) {
+    pub fn legal_span(&self, seat: Seat) -> std::ops::Range<usize> {
         if self.is_over() {
-            return;
+            return 0..0;
         }
         if seat.0 != self.current {
-            out[0] = T::ZERO;
-            return;
+            return 0..1;
         }
         let layout = self.config.action_layout();
         let y = self.config.cards();
         match self.substep() {
-            Substep::FirstObserve => out[1..layout.observe + y].fill(T::ZERO),
-            Substep::SecondObserve => out[layout.observe..layout.observe + y].fill(T::ZERO),
-            Substep::Move => {
-                out[0] = T::ZERO;
-                out[layout.movement..layout.reveal].fill(T::ZERO);
-            }
-            Substep::Hint => out[layout.reveal..].fill(T::ZERO),
+            Substep::FirstObserve => 1..layout.observe + y,
+            Substep::SecondObserve => layout.observe..layout.observe + y,
+            Substep::Move => 0..layout.reveal,
+            Substep::Hint => layout.reveal..layout.len,
         }
+    }
+
+    /// Zero every entry that [`Game::write_legal_mask`] can have set to `ONE` in this state
+    /// (the [`Game::legal_span`]). A batched environment calls this before an action and
+    /// [`Game::mark_legal_mask`] after it, so that a mask costs the few groups that change
+    /// rather than a clear of all N_a entries per seat and step.
+    #[inline]
+    pub fn clear_legal_mask<T: Scalar>(&self, seat: Seat, out: &mut [T]) {
+        out[self.legal_span(seat)].fill(T::ZERO);
     }
 
     /// Call `f` on every legal action of `seat`, in index order.
@@ -139,8 +143,9 @@ fn move_targets(game: &Game, from: usize) -> Bitboard {
     let own = Bitboard::from_index(from);
     let rest = game.occupied ^ own;
     let empty = geo.board() & !game.occupied;
-    // A leaf (one neighbour) cannot disconnect the rest.
-    if (geo.neighbours(own) & rest).count() <= 1 {
+    // A card whose side neighbours are linked around it (a leaf, or a card inside a
+    // block) cannot disconnect the rest: no flood fill needed.
+    if RING_KEEPS_CONNECTED[geo.ring(from, rest) as usize] {
         return geo.neighbours(rest) & empty;
     }
     let first = geo.flood(rest.lowest(), rest);

@@ -303,9 +303,7 @@ impl<T: Scalar + Default> VecEnv<T> {
                 what: "one per game",
             });
         }
-        for (i, &a) in actions.iter().enumerate() {
-            self.check(i, self.acting[i] as usize, a)?;
-        }
+        self.check_all(actions)?;
         self.apply(actions);
         Ok(())
     }
@@ -332,6 +330,23 @@ impl<T: Scalar + Default> VecEnv<T> {
         self.apply(&scratch);
         self.scratch = scratch;
         Ok(())
+    }
+
+    /// Check the acting seats' actions on the worker threads (a mask read per game is a cache
+    /// miss per game, too slow to leave on one thread); the first illegal one is the error.
+    fn check_all(&self, actions: &[u32]) -> Result<(), VecError> {
+        let n_a = self.config.num_actions();
+        let p = self.config.players();
+        let (masks, acting) = (&self.masks, &self.acting);
+        let bad = self.pool.install(|| {
+            actions.par_iter().enumerate().position_first(|(i, &a)| {
+                (a as usize) >= n_a || masks[(i * p + acting[i] as usize) * n_a + a as usize] != 1
+            })
+        });
+        match bad {
+            Some(i) => self.check(i, self.acting[i] as usize, actions[i]),
+            None => Ok(()),
+        }
     }
 
     /// Is `action` legal for `seat` of game `env`? Reads the mask; on failure asks the game
@@ -543,20 +558,35 @@ impl<T: Scalar + Default> VecEnv<T> {
         let n_a = self.config.num_actions();
         let p = self.config.players();
         let c = self.options.chunk;
-        let (masks, acting) = (&self.masks, &self.acting);
+        let (masks, acting, slots) = (&self.masks, &self.acting, &self.slots);
         self.pool.install(|| {
             out.par_chunks_mut(c).enumerate().for_each(|(chunk, out)| {
                 for (j, o) in out.iter_mut().enumerate() {
                     let env = chunk * c + j;
-                    let mask = &masks[(env * p + acting[env] as usize) * n_a..][..n_a];
-                    let count: u32 = mask.iter().map(|&m| m as u32).sum();
+                    let seat = Seat(acting[env]);
+                    // Legal actions lie in the substep's span, a few bytes except at MOVE.
+                    let span = slots[env].game.legal_span(seat);
+                    let mask = &masks[(env * p + seat.index()) * n_a..][span.clone()];
+                    let count = count_set(mask);
                     let r = derive_seed(seed, env as u64);
                     let k = ((r as u128 * count as u128) >> 64) as u32;
-                    *o = nth_set(mask, k) as u32;
+                    *o = (span.start + nth_set(mask, k)) as u32;
                 }
             });
         });
     }
+}
+
+/// Number of nonzero bytes of a 0/1 mask; eight bytes at a time.
+#[inline]
+fn count_set(mask: &[u8]) -> u32 {
+    const LOW: u64 = 0x0101_0101_0101_0101;
+    let words = mask.chunks_exact(8);
+    let tail: u32 = words.remainder().iter().map(|&m| m as u32).sum();
+    words
+        .map(|w| (u64::from_le_bytes(w.try_into().expect("8 bytes")) & LOW).count_ones())
+        .sum::<u32>()
+        + tail
 }
 
 /// Index of the `k`-th (0-based) nonzero byte of a 0/1 mask; eight bytes at a time.
