@@ -42,10 +42,9 @@
 //! column, id+1, substep, 0/1), so `f32 = u8 / scale` with [`ImageChannels::scales`].
 
 use crate::action::Action;
-use crate::bitboard::Bitboard;
 use crate::config::Config;
 use crate::game::Game;
-use crate::types::{cards_in, Card, Seat};
+use crate::types::{cards_in, Card, HintSlot, Seat};
 
 /// An element type an observation or mask can be written in.
 pub trait Scalar: Copy + PartialEq + std::fmt::Debug + Send + Sync + 'static {
@@ -295,18 +294,25 @@ fn write_background<T: Scalar>(
     }
 }
 
-/// Which pixels of an image (besides the two broadcast channels) an action may change:
-/// computed by [`Game::image_changes`] *before* the action is applied, and handed to
-/// [`ImageEncoder::update`] after it, so a batched environment rewrites a handful of
-/// pixels instead of whole images.
+/// What an action changes in every seat's image, besides the two broadcast channels:
+/// computed by [`Game::image_changes`] *before* the action is applied and handed to
+/// [`ImageEncoder::update`] after it, so that a batched environment writes the few values
+/// that change instead of whole images. Each store into an image that is not in cache costs
+/// a cache line, so the update writes exactly the channels that change.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct ImageChanges {
-    /// Board cells (bit = row·g + column) whose card pixel may change.
-    pub cells: Bitboard,
-    /// Hint slots whose row of the hint column may change.
-    pub slots: u32,
-    /// The action ends the turn, so "my turn" changes for two seats.
-    pub turn_ends: bool,
+    /// A card observed: "observed this turn" for everyone, its colour for the actor.
+    observed: Option<Card>,
+    /// A card moved, and the bit index of the cell it left.
+    moved: Option<(Card, u8)>,
+    /// A hint slot turned face up.
+    revealed: Option<HintSlot>,
+    /// A hint placed on a card.
+    placed: Option<(HintSlot, Card)>,
+    /// The action ends the turn: "my turn" changes, and these cards (observed in the turn
+    /// that ends) lose their "observed this turn" mark and, with imperfect memory, the
+    /// colour the actor saw.
+    turn_end: Option<u32>,
 }
 
 /// Writes image observations fast. The background (everything that does not depend on
@@ -362,8 +368,8 @@ impl<T: Scalar> ImageEncoder<T> {
     }
 
     /// Bring `out`, which holds `seat`'s image of the game one action ago, up to date with
-    /// `game`, given that action's [`ImageChanges`]. Rewrites the broadcast channels and the
-    /// changed pixels only. The private part is small and is rewritten whole.
+    /// `game`, given that action's [`ImageChanges`]. The private part is small and is
+    /// rewritten whole.
     #[inline]
     pub fn update(
         &self,
@@ -376,21 +382,17 @@ impl<T: Scalar> ImageEncoder<T> {
         if part == Part::Private {
             return self.write(game, seat, part, out);
         }
-        check_len(
-            "image observation",
-            out.len(),
-            &self.config.image_shape(part),
-        )?;
+        if out.len() != self.len {
+            return check_len(
+                "image observation",
+                out.len(),
+                &self.config.image_shape(part),
+            );
+        }
         let config = &self.config;
         let ch = config.image_channels();
         let s = Strides::new(config, ch.len, self.layout);
-        let g = config.grid();
         let substep = T::ratio(game.substep as u32, 3);
-        let my_turn = if seat.0 == game.current && !game.is_over() {
-            T::ONE
-        } else {
-            T::ZERO
-        };
         let broadcast = |out: &mut [T], channel: usize, value: T| match self.layout {
             ImageLayout::Chw => out[channel * s.channel..][..s.channel].fill(value),
             ImageLayout::Hwc => out[channel..]
@@ -399,34 +401,59 @@ impl<T: Scalar> ImageEncoder<T> {
                 .for_each(|v| *v = value),
         };
         broadcast(out, ch.substep, substep);
-        if changes.turn_ends {
-            broadcast(out, ch.my_turn, my_turn);
-        }
-        for cell in changes.cells.iter() {
-            clear_pixel(&ch, &s, s.pixel(cell / g, cell % g), out);
-        }
         let known = game.known_in(seat, part);
-        for k in 0..config.cards() {
-            if changes.cells.contains(game.cell_of[k] as usize) {
-                game.write_card_pixel(k, known, &ch, &s, out);
+        let card_pixel = |card: Card| game.card_pixel(card, &s);
+        let colour_channel = |card: Card| ch.known + game.colour_of[card.index()].index();
+        if let Some(card) = changes.observed {
+            let px = card_pixel(card);
+            out[px + ch.observed * s.channel] = T::ONE;
+            if known & card.bit() != 0 {
+                out[px + colour_channel(card) * s.channel] = T::ONE;
             }
         }
-        let mut slots = changes.slots;
-        while slots != 0 {
-            let slot = slots.trailing_zeros() as usize;
-            slots &= slots - 1;
-            clear_pixel(&ch, &s, s.pixel(slot, g), out);
-            game.write_slot_pixel(slot, &ch, &s, out);
+        if let Some((card, from)) = changes.moved {
+            // A moving card is unhinted: only these channels are set on the cell it left.
+            let g = config.grid();
+            let from = s.pixel(from as usize / g, from as usize % g);
+            for channel in [ch.present, ch.id, ch.observed, colour_channel(card)] {
+                out[from + channel * s.channel] = T::ZERO;
+            }
+            game.write_card_pixel(card.index(), known, &ch, &s, out);
+        }
+        if let Some(slot) = changes.revealed {
+            let px = s.pixel(slot.index(), config.grid());
+            out[px + ch.present * s.channel] = T::ZERO;
+            for colour in game.hint_colours[slot.index()].colours() {
+                out[px + (ch.hint + colour.index()) * s.channel] = T::ONE;
+            }
+        }
+        if let Some((slot, card)) = changes.placed {
+            out[s.pixel(slot.index(), config.grid()) + ch.hinted * s.channel] = T::ONE;
+            let px = card_pixel(card);
+            out[px + ch.hinted * s.channel] = T::ONE;
+            for colour in game.hint_colours[slot.index()].colours() {
+                out[px + (ch.hint + colour.index()) * s.channel] = T::ONE;
+            }
+        }
+        if let Some(cards) = changes.turn_end {
+            let my_turn = if seat.0 == game.current && !game.is_over() {
+                T::ONE
+            } else {
+                T::ZERO
+            };
+            broadcast(out, ch.my_turn, my_turn);
+            for card in cards_in(cards) {
+                let px = card_pixel(card);
+                out[px + ch.observed * s.channel] = T::ZERO;
+                let shown = if known & card.bit() != 0 {
+                    T::ONE
+                } else {
+                    T::ZERO
+                };
+                out[px + colour_channel(card) * s.channel] = shown;
+            }
         }
         Ok(())
-    }
-}
-
-/// Zero the channels of one pixel that cards and hints set (all but position and broadcast).
-#[inline(always)]
-fn clear_pixel<T: Scalar>(ch: &ImageChannels, s: &Strides, px: usize, out: &mut [T]) {
-    for channel in (ch.known..ch.row).chain(ch.present..ch.my_turn) {
-        out[px + channel * s.channel] = T::ZERO;
     }
 }
 
@@ -457,29 +484,18 @@ impl Game {
         })
     }
 
-    /// Which image pixels `action`, about to be applied, may change (see [`ImageChanges`]).
+    /// What `action`, about to be applied, changes in the images (see [`ImageChanges`]).
     pub fn image_changes(&self, action: Action) -> ImageChanges {
-        let cell = |card: Card| Bitboard::from_index(self.cell_of[card.index()] as usize);
         let mut changes = ImageChanges::default();
         match action {
-            Action::Observe(card) => changes.cells = cell(card),
-            Action::Move(card, to) => {
-                changes.cells = cell(card) | Bitboard::from_index(self.config.geometry().index(to))
-            }
-            Action::Reveal => changes.slots = 1 << self.revealed,
-            Action::Place(slot, card) => {
-                changes.cells = cell(card);
-                changes.slots = 1 << slot.index();
-            }
+            Action::Observe(card) => changes.observed = Some(card),
+            Action::Move(card, _) => changes.moved = Some((card, self.cell_of[card.index()])),
+            Action::Reveal => changes.revealed = Some(HintSlot(self.revealed)),
+            Action::Place(slot, card) => changes.placed = Some((slot, card)),
             Action::Noop | Action::End => {}
         }
         if self.substep == 3 {
-            // The turn passes: "observed this turn" (and, with imperfect memory, the colours
-            // the acting seat saw this turn) are cleared.
-            changes.turn_ends = true;
-            for card in cards_in(self.turn_observed) {
-                changes.cells |= cell(card);
-            }
+            changes.turn_end = Some(self.turn_observed);
         }
         changes
     }
@@ -535,6 +551,14 @@ impl Game {
         } else {
             0
         }
+    }
+
+    /// Offset of channel 0 of `card`'s pixel.
+    #[inline(always)]
+    fn card_pixel(&self, card: Card, s: &Strides) -> usize {
+        let g = self.config.grid();
+        let cell = self.cell_of[card.index()] as usize;
+        s.pixel(cell / g, cell % g)
     }
 
     /// Write card `k`'s pixel over one whose card channels are zero.

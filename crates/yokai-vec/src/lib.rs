@@ -303,9 +303,10 @@ impl<T: Scalar + Default> VecEnv<T> {
                 what: "one per game",
             });
         }
-        self.check_all(actions)?;
-        self.apply(actions);
-        Ok(())
+        match self.apply(actions) {
+            Some(i) => self.check(i, self.acting[i] as usize, actions[i]),
+            None => Ok(()),
+        }
     }
 
     /// Step every game with one action per seat (`actions[i·P + s]`, NOOP = 0 for every seat
@@ -327,26 +328,10 @@ impl<T: Scalar + Default> VecEnv<T> {
             self.scratch[i] = actions[i * p + self.acting[i] as usize];
         }
         let scratch = std::mem::take(&mut self.scratch);
-        self.apply(&scratch);
+        let bad = self.apply(&scratch);
         self.scratch = scratch;
+        debug_assert!(bad.is_none(), "every action was checked above");
         Ok(())
-    }
-
-    /// Check the acting seats' actions on the worker threads (a mask read per game is a cache
-    /// miss per game, too slow to leave on one thread); the first illegal one is the error.
-    fn check_all(&self, actions: &[u32]) -> Result<(), VecError> {
-        let n_a = self.config.num_actions();
-        let p = self.config.players();
-        let (masks, acting) = (&self.masks, &self.acting);
-        let bad = self.pool.install(|| {
-            actions.par_iter().enumerate().position_first(|(i, &a)| {
-                (a as usize) >= n_a || masks[(i * p + acting[i] as usize) * n_a + a as usize] != 1
-            })
-        });
-        match bad {
-            Some(i) => self.check(i, self.acting[i] as usize, actions[i]),
-            None => Ok(()),
-        }
     }
 
     /// Is `action` legal for `seat` of game `env`? Reads the mask; on failure asks the game
@@ -372,7 +357,13 @@ impl<T: Scalar + Default> VecEnv<T> {
         Err(VecError::Action { env, source })
     }
 
-    fn apply(&mut self, actions: &[u32]) {
+    /// Check the acting seats' actions and, if all are legal, apply them; otherwise change
+    /// nothing and return the first illegal game. Both run on the worker threads in one
+    /// hand-over to the pool: a mask read per game is a cache miss per game, too slow to
+    /// leave on the calling thread, and every hand-over costs a wake-up.
+    fn apply(&mut self, actions: &[u32]) -> Option<usize> {
+        let n_a = self.config.num_actions();
+        let p = self.config.players();
         let config = self.config;
         let seed = self.options.seed;
         let encoding = self.options.encoding;
@@ -391,6 +382,12 @@ impl<T: Scalar + Default> VecEnv<T> {
             &mut self.outcomes,
         );
         self.pool.install(|| {
+            let bad = actions.par_iter().enumerate().position_first(|(i, &a)| {
+                (a as usize) >= n_a || masks[(i * p + acting[i] as usize) * n_a + a as usize] != 1
+            });
+            if bad.is_some() {
+                return bad;
+            }
             slots
                 .par_chunks_mut(c)
                 .enumerate()
@@ -446,7 +443,8 @@ impl<T: Scalar + Default> VecEnv<T> {
                         }
                     },
                 );
-        });
+            None
+        })
     }
 
     /// Put game `env` back where it was: episode `episode` of its seed stream with the
