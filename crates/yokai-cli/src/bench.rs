@@ -27,9 +27,11 @@ pub struct Args {
     /// Observation dtypes to measure: f32, u8 (comma-separated).
     #[arg(long, default_value = "f32,u8", value_delimiter = ',')]
     dtypes: Vec<String>,
-    /// Observation encoding written for every seat each step.
-    #[arg(long, default_value = "image")]
-    encoding: String,
+    /// Observation encodings written for every seat each step (comma-separated): `image` is
+    /// RULES §5's `[g, g+1, F]`, `image-chw` the same values channels-first `[F, g, g+1]`
+    /// (what conv layers take, and cheaper to update in place); also graph, none, ….
+    #[arg(long, default_value = "image-chw,image", value_delimiter = ',')]
+    encodings: Vec<String>,
     /// Games per work item handed to a thread.
     #[arg(long, default_value_t = 32)]
     chunk: usize,
@@ -87,47 +89,56 @@ pub fn run(args: Args) -> Result<(), String> {
     if args.seconds <= 0.0 || !args.seconds.is_finite() {
         return Err("--seconds must be positive".into());
     }
-    let encoding = yokai_vec::Encoding::parse(&args.encoding).map_err(|e| e.to_string())?;
+    let encodings = args
+        .encodings
+        .iter()
+        .map(|name| yokai_vec::Encoding::parse(name).map(|e| (name.as_str(), e)))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|e| e.to_string())?;
     let threads = args
         .threads
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
     if !args.json {
         println!(
-            "random legal actions, {} observations for every seat + legal masks, {threads} thread(s), {} s per row",
-            args.encoding, args.seconds
+            "random legal actions, observations for every seat + legal masks, {threads} thread(s), {} s per row",
+            args.seconds
         );
-        println!("| config | games | dtype | steps/s | paper H100 | ratio |");
-        println!("|---|---|---|---|---|---|");
+        println!("| config | games | encoding | dtype | steps/s | paper H100 | ratio |");
+        println!("|---|---|---|---|---|---|---|");
     }
     for name in &args.configs {
         let config = Config::resolve(name).map_err(|e| e.to_string())?;
         for &envs in &args.envs {
-            for dtype in &args.dtypes {
-                let options = VecEnvOptions {
-                    encoding,
-                    threads: Some(threads),
-                    chunk: args.chunk,
-                    ..VecEnvOptions::new(envs, 0)
-                };
-                let sps = match dtype.as_str() {
-                    "f32" => measure::<f32>(config, options, args.seconds)?,
-                    "u8" => measure::<u8>(config, options, args.seconds)?,
-                    other => return Err(format!("unknown dtype `{other}` (expected f32 or u8)")),
-                };
-                let paper = paper_h100(&config, envs);
-                if args.json {
-                    println!(
-                        "{}",
-                        json!({"config": config.to_string(), "envs": envs, "dtype": dtype, "threads": threads,
-                               "encoding": args.encoding, "steps_per_second": sps.round(),
-                               "paper_h100": paper, "ratio": paper.map(|p| sps / p)})
-                    );
-                } else {
-                    let (p, r) = match paper {
-                        Some(p) => (format!("{p:.0}"), format!("{:.1}×", sps / p)),
-                        None => ("–".into(), "–".into()),
+            for &(encoding_name, encoding) in &encodings {
+                for dtype in &args.dtypes {
+                    let options = VecEnvOptions {
+                        encoding,
+                        threads: Some(threads),
+                        chunk: args.chunk,
+                        ..VecEnvOptions::new(envs, 0)
                     };
-                    println!("| {config} | {envs} | {dtype} | {sps:.0} | {p} | {r} |");
+                    let sps = match dtype.as_str() {
+                        "f32" => measure::<f32>(config, options, args.seconds)?,
+                        "u8" => measure::<u8>(config, options, args.seconds)?,
+                        other => {
+                            return Err(format!("unknown dtype `{other}` (expected f32 or u8)"))
+                        }
+                    };
+                    let paper = paper_h100(&config, envs);
+                    if args.json {
+                        println!(
+                            "{}",
+                            json!({"config": config.to_string(), "envs": envs, "dtype": dtype, "threads": threads,
+                               "encoding": encoding_name, "steps_per_second": sps.round(),
+                               "paper_h100": paper, "ratio": paper.map(|p| sps / p)})
+                        );
+                    } else {
+                        let (p, r) = match paper {
+                            Some(p) => (format!("{p:.0}"), format!("{:.1}×", sps / p)),
+                            None => ("–".into(), "–".into()),
+                        };
+                        println!("| {config} | {envs} | {encoding_name} | {dtype} | {sps:.0} | {p} | {r} |");
+                    }
                 }
             }
         }

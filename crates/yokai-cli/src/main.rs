@@ -53,6 +53,14 @@ enum Command {
 }
 
 fn main() -> ExitCode {
+    // Like other Unix tools, stop quietly when the reader of our output goes away
+    // (`yokai bench | head`) instead of panicking on the failed write. Rust ignores SIGPIPE
+    // by default; restoring the default action is safe before any thread starts.
+    #[cfg(unix)]
+    // SAFETY: signal() with SIG_DFL installs no handler code and runs single-threaded here.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Random(args) => random::run(args),

@@ -1,0 +1,76 @@
+//! `yokai bench` from the outside: one row per (config, games, encoding, dtype), the
+//! paper's figure beside the configs it measured, clear errors for bad options.
+
+use std::process::Command;
+
+fn yokai(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_yokai"))
+        .args(args)
+        .output()
+        .expect("runs")
+}
+
+#[test]
+fn json_rows_cover_every_combination() {
+    let out = yokai(&[
+        "bench",
+        "--configs",
+        "9c-2p-perfect,16c-3p",
+        "--envs",
+        "2048,64",
+        "--encodings",
+        "image-chw,graph",
+        "--dtypes",
+        "u8,f32",
+        "--seconds",
+        "0.02",
+        "--threads",
+        "2",
+        "--json",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let rows: Vec<serde_json::Value> = String::from_utf8(out.stdout)
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(rows.len(), 2 * 2 * 2 * 2);
+    for row in &rows {
+        assert!(row["steps_per_second"].as_f64().unwrap() > 0.0, "{row}");
+        assert_eq!(row["threads"], 2);
+        let paper = &row["paper_h100"];
+        match (
+            row["config"].as_str().unwrap(),
+            row["envs"].as_u64().unwrap(),
+        ) {
+            ("9c-2p-perfect", 2048) => assert_eq!(paper.as_f64(), Some(559_251.0)),
+            // The paper measured 9c and 16c with two players at 512-2048 games only.
+            _ => assert!(paper.is_null(), "{row}"),
+        }
+    }
+    assert!(rows
+        .iter()
+        .any(|r| r["encoding"] == "graph" && r["dtype"] == "f32"));
+}
+
+#[test]
+fn bad_options_are_errors_that_say_what() {
+    let out = yokai(&["bench", "--encodings", "pixels", "--seconds", "0.01"]);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("unknown observation encoding `pixels`"));
+    let out = yokai(&[
+        "bench",
+        "--dtypes",
+        "f16",
+        "--seconds",
+        "0.01",
+        "--envs",
+        "8",
+    ]);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("unknown dtype `f16`"));
+}
