@@ -18,6 +18,8 @@ def single_games(config, num_envs, seed):
         ("9c-3p-imperfect", "image", "uint8"),
         ("9c-2p-perfect", "graph", "float32"),
         ("16c-2p-perfect", "image-public", "uint8"),
+        ("9c-2p-imperfect", "image-chw", "float32"),
+        ("9c-3p-perfect", "image-private-chw", "uint8"),
     ],
 )
 def test_random_play_agrees_with_single_games(config, obs, dtype):
@@ -62,6 +64,17 @@ def test_random_play_agrees_with_single_games(config, obs, dtype):
             else:
                 assert out["final"]["length"][i] == 0
     assert finished > 10, "the test should cross several auto-resets"
+
+
+def test_channels_first_images_are_the_spec_images_transposed():
+    hwc = yokai.VecEnv("9c-2p-perfect", num_envs=4, seed=5, obs="image")
+    chw = yokai.VecEnv("9c-2p-perfect", num_envs=4, seed=5, obs="image-chw")
+    a, b = hwc.reset(), chw.reset()
+    assert b["obs"].shape == (4, 2, 14, 9, 10)
+    for step in range(60):
+        np.testing.assert_array_equal(b["obs"], a["obs"].transpose(0, 1, 4, 2, 3))
+        actions = hwc.sample_actions(seed=step)
+        a, b = hwc.step(actions), chw.step(actions)
 
 
 def test_arrays_have_documented_shapes_and_dtypes():
