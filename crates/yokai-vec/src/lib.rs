@@ -29,9 +29,12 @@
 //! whatever the number of threads (a test checks 1 and 2 threads against single games).
 //!
 //! ## Cost
-//! No allocation in `step`: actions are validated against the legal masks (one byte read
-//! per game), then each chunk applies its actions, resets finished games, and rewrites the
-//! observations and masks of every seat.
+//! No allocation in `step`. Actions are checked against the legal masks on the worker
+//! threads. Each chunk then applies its actions and updates the buffers *in place*: a mask
+//! clears the action groups of the old substep and marks the new ones, and an image writes
+//! only the channels the action changed ([`yokai_engine::ImageChanges`]). A game that ends
+//! is reset and written in full. The channels-first layout (`image-chw`) is the cheapest to
+//! update, because its broadcast channels are two contiguous planes (`docs/performance.md`).
 
 use rayon::prelude::*;
 use yokai_engine::{
