@@ -362,3 +362,52 @@ fn cross_play_averages_over_seatings_with_known_outcomes() {
     assert_eq!(m.length, 3.0);
     assert_eq!(m.early_end, 1.0);
 }
+
+#[test]
+fn a_move_tells_the_partner_the_colours_its_mover_just_saw() {
+    // After seat 0's first turn (observe, observe, move), seat 1's public set must still
+    // hold the true colouring, and in most deals it pins down both colours seat 0 saw:
+    // the move among equally good ones spells them (docs/bots.md, convention rule 3).
+    let config = Config::from_name("9c-2p-perfect").unwrap();
+    let deals = 300u64;
+    let mut told = 0;
+    for seed in 0..deals {
+        let game = Game::new(config, 50_000 + seed);
+        let deal = game.deal();
+        let history = belief_history(config, &deal, 3, seed);
+        let Action::Move(..) = history[2] else {
+            panic!(
+                "seed {seed}: the third action should be a move, not {}",
+                history[2]
+            );
+        };
+        let mut partner = BeliefPolicy::new(BeliefParams::default(), seed);
+        let mut replay = Game::from_deal(config, &deal).unwrap();
+        let mut seen = 0u32;
+        for &action in &history {
+            if let Action::Observe(card) = action {
+                seen |= card.bit();
+            }
+            partner.observe(&replay.view(Seat(1)), replay.current_seat(), action);
+            replay.apply(action).unwrap();
+        }
+        let public = partner.public_set();
+        let truth = deal_of_truth(&deal);
+        assert!(partner.is_trusting());
+        assert!(
+            public.contains(&truth),
+            "seed {seed}: the truth left the public set"
+        );
+        if public
+            .iter()
+            .all(|x| x.restricted(seen) == truth.restricted(seen))
+        {
+            told += 1;
+        }
+    }
+    println!("both colours told in {told} of {deals} deals");
+    assert!(
+        told * 10 >= deals * 6,
+        "told in only {told} of {deals} deals"
+    );
+}

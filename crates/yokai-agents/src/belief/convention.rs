@@ -4,7 +4,7 @@
 //! how moves and hints carry information (docs/bots.md states the rules for people).
 
 use super::colouring::Colouring;
-use yokai_engine::{Action, Card, Cell, HintSlot, PublicView, Seat, Substep};
+use yokai_engine::{cards_in, Action, Card, Cell, HintSlot, PublicView, Seat, Substep};
 
 /// The tunable parts of the convention.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -145,21 +145,41 @@ fn neighbour_value(view: &PublicView<'_>, same: &[f64], card: Card, cell: Cell) 
         .sum()
 }
 
-/// MOVE the card whose move most raises the expected number of same-colour contacts
-/// (ties: lowest action index); NOOP when no card can move.
+/// MOVE the card whose move most raises the expected number of same-colour contacts. Many
+/// moves often tie for the best gain; among them (in action-index order) take number
+/// `k mod (number tied)`, where `k` spells the colours of the cards observed this turn as
+/// a base-C number (cards in id order, colours numbered from 0). The move still builds
+/// clusters as well as any other, and also tells partners what this seat just saw.
+/// NOOP when no card can move.
 fn choose_move(view: &PublicView<'_>, seat: Seat, posterior: &[Colouring]) -> Action {
     let same = same_colour(posterior, view.config().cards());
-    let mut best: Option<(f64, Action)> = None;
+    let mut moves: Vec<(f64, Action)> = Vec::new();
     view.for_each_legal_of(seat, |action| {
         if let Action::Move(card, cell) = action {
             let gain = neighbour_value(view, &same, card, cell)
                 - neighbour_value(view, &same, card, view.cell_of(card));
-            if best.is_none_or(|(b, _)| gain > b + 1e-9) {
-                best = Some((gain, action));
-            }
+            moves.push((gain, action));
         }
     });
-    best.map_or(Action::Noop, |(_, a)| a)
+    let Some(best) = moves.iter().map(|&(gain, _)| gain).reduce(f64::max) else {
+        return Action::Noop;
+    };
+    let tied: Vec<Action> = moves
+        .into_iter()
+        .filter(|&(gain, _)| gain >= best - 1e-9)
+        .map(|(_, action)| action)
+        .collect();
+    tied[seen_this_turn(view, posterior) % tied.len()]
+}
+
+/// The colours of the cards observed this turn as a base-C number (cards in id order): what
+/// the acting seat knows for certain and its partners do not (yet).
+fn seen_this_turn(view: &PublicView<'_>, posterior: &[Colouring]) -> usize {
+    let Some(colouring) = posterior.first() else {
+        return 0;
+    };
+    let c = view.config().colours();
+    cards_in(view.turn_observed()).fold(0, |k, card| k * c + colouring.colour_of(card).index())
 }
 
 /// PLACE a revealed hint where it is certainly true (preferring the card whose colour the
