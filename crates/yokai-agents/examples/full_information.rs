@@ -37,7 +37,9 @@ fn main() -> Result<(), String> {
     let m = metrics.metrics().ok_or("no games played (GAMES is 0)")?;
     println!(
         "{config}, {games} games, full information: R {:.2}, win {:.1} %, LEN {:.1}",
-        m.reward, 100.0 * m.win_rate, m.length
+        m.reward,
+        100.0 * m.win_rate,
+        m.length
     );
     Ok(())
 }

@@ -67,7 +67,7 @@ fn measure<T: Scalar + Default>(
     let n = options.num_envs;
     let mut actions = vec![0u32; n];
     let mut round = 0u64;
-    let mut run_for = |limit: Duration| -> Result<(u64, Duration), String> {
+    let mut run_for = |env: &mut VecEnv<T>, limit: Duration| -> Result<(u64, Duration), String> {
         let start = Instant::now();
         let mut iterations = 0u64;
         while start.elapsed() < limit {
@@ -80,8 +80,14 @@ fn measure<T: Scalar + Default>(
         }
         Ok((iterations, start.elapsed()))
     };
-    run_for(Duration::from_secs_f64((seconds / 5.0).min(0.5)))?;
-    let (iterations, elapsed) = run_for(Duration::from_secs_f64(seconds))?;
+    let warm_up = Duration::from_secs_f64((seconds / 5.0).min(0.5));
+    let measured = Duration::from_secs_f64(seconds);
+    // The loop runs on the environment's worker threads, as a Rust rollout loop would, so
+    // each call splits its games without a hand-over from an outside thread.
+    let (iterations, elapsed) = env.on_workers(|env| {
+        run_for(env, warm_up)?;
+        run_for(env, measured)
+    })?;
     Ok((iterations * n as u64) as f64 / elapsed.as_secs_f64())
 }
 

@@ -173,7 +173,7 @@ pub struct VecEnv<T: Scalar> {
     scratch: Vec<u32>,
     image: ImageEncoder<T>,
     sizes: Sizes,
-    pool: rayon::ThreadPool,
+    pool: std::sync::Arc<rayon::ThreadPool>,
 }
 
 /// Per-env sizes used inside the step loop.
@@ -193,13 +193,15 @@ impl<T: Scalar + Default> VecEnv<T> {
         let threads = options
             .threads
             .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .map_err(|e| VecError::Threads {
-                threads,
-                message: e.to_string(),
-            })?;
+        let pool = std::sync::Arc::new(
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .map_err(|e| VecError::Threads {
+                    threads,
+                    message: e.to_string(),
+                })?,
+        );
         let n = options.num_envs;
         let p = config.players();
         let sizes = Self::sizes(&config, options.encoding);
@@ -496,6 +498,19 @@ impl<T: Scalar + Default> VecEnv<T> {
             acting,
         );
         Ok(())
+    }
+
+    /// Run `work` on one of this environment's worker threads, and return its result. Calls
+    /// to `step` and `sample_legal` from inside then split their games across the workers
+    /// directly, instead of handing each call over from an outside thread and sleeping until
+    /// it is done. A loop that steps many times in Rust (a benchmark, a rollout with a Rust
+    /// policy) saves one wake-up per call this way.
+    pub fn on_workers<R: Send>(&mut self, work: impl FnOnce(&mut Self) -> R + Send) -> R
+    where
+        T: Send,
+    {
+        let pool = std::sync::Arc::clone(&self.pool);
+        pool.install(|| work(self))
     }
 
     // --- buffers -----------------------------------------------------------------------

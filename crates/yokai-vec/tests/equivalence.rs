@@ -159,6 +159,40 @@ fn batched_equals_single_games_graph_and_none() {
 }
 
 #[test]
+fn stepping_on_the_workers_gives_the_same_buffers() {
+    let config = Config::from_name("9c-2p").unwrap();
+    let options = VecEnvOptions {
+        threads: Some(2),
+        chunk: 3,
+        ..VecEnvOptions::new(10, 4)
+    };
+    let mut outside = VecEnv::<u8>::new(config, options).unwrap();
+    let mut inside = VecEnv::<u8>::new(config, options).unwrap();
+    let mut actions = vec![0u32; 10];
+    for round in 0..100 {
+        outside.sample_legal(round, &mut actions);
+        outside.step(&actions).unwrap();
+    }
+    let bad = inside.on_workers(|env| {
+        let mut actions = vec![0u32; 10];
+        for round in 0..100 {
+            env.sample_legal(round, &mut actions);
+            env.step(&actions).unwrap();
+        }
+        actions[0] = u32::MAX; // out of range: an error, and nothing changes
+        env.step(&actions)
+    });
+    assert!(
+        matches!(bad, Err(VecError::Action { env: 0, .. })),
+        "{bad:?}"
+    );
+    assert_eq!(inside.observations(), outside.observations());
+    assert_eq!(inside.legal_masks(), outside.legal_masks());
+    assert_eq!(inside.acting_seats(), outside.acting_seats());
+    assert_eq!(inside.rewards(), outside.rewards());
+}
+
+#[test]
 fn illegal_actions_are_errors_that_change_nothing() {
     let config = Config::from_name("9c-2p").unwrap();
     let mut env = VecEnv::<f32>::new(config, VecEnvOptions::new(4, 1)).unwrap();
