@@ -221,8 +221,8 @@ impl Geometry {
         Bitboard(
             ((b << 1) & self.not_first_col.0)
                 | ((b >> 1) & self.not_last_col.0)
-                | ((b << g) & self.board.0)
-                | (b >> g),
+                | (shl_small(b, g) & self.board.0)
+                | shr_small(b, g),
         )
     }
 
@@ -264,6 +264,26 @@ impl Geometry {
     pub fn is_connected(&self, set: Bitboard) -> bool {
         set.is_empty() || self.flood(set.lowest(), set) == set
     }
+}
+
+/// `b << s` for a shift known to lie in `1..64` (a grid side), as two 64-bit halves: the
+/// general u128 shift by a runtime amount must also handle shifts of 64 or more, which costs
+/// a branch or a select on every call of the move generator's inner loop.
+#[inline(always)]
+fn shl_small(b: u128, s: u32) -> u128 {
+    debug_assert!((1..64).contains(&s));
+    let (lo, hi) = (b as u64, (b >> 64) as u64);
+    let hi = (hi << s) | (lo >> (64 - s));
+    ((hi as u128) << 64) | (lo << s) as u128
+}
+
+/// `b >> s` for a shift in `1..64` (see [`shl_small`]).
+#[inline(always)]
+fn shr_small(b: u128, s: u32) -> u128 {
+    debug_assert!((1..64).contains(&s));
+    let (lo, hi) = (b as u64, (b >> 64) as u64);
+    let lo = (lo >> s) | (hi << (64 - s));
+    ((hi >> s) as u128) << 64 | lo as u128
 }
 
 /// For each [`Geometry::ring`] pattern around a cell: whether the pattern's side neighbours
@@ -318,6 +338,18 @@ const fn ring_table() -> [bool; 256] {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn small_shifts_equal_the_general_u128_shifts() {
+        let mut b: u128 = 0x9e37_79b9_7f4a_7c15_f39c_c060_5ced_c834;
+        for _ in 0..200 {
+            b = b.rotate_left(17) ^ b.wrapping_mul(0x2545_f491_4f6c_dd1d);
+            for s in 1..64 {
+                assert_eq!(shl_small(b, s), b << s, "{b:#x} << {s}");
+                assert_eq!(shr_small(b, s), b >> s, "{b:#x} >> {s}");
+            }
+        }
+    }
 
     #[test]
     fn a_cell_whose_ring_links_its_neighbours_never_splits_a_group() {
