@@ -90,27 +90,32 @@ fn colour_counts(set: &[Colouring], cards: usize) -> Vec<[u32; 4]> {
     counts
 }
 
-/// OBSERVE the unhinted card whose colour is least certain (lowest id on ties), never the
-/// card already observed this turn.
+/// OBSERVE the unhinted card whose colour is least certain, never the card already observed
+/// this turn. Among the cards tied for least certain (in id order), take number
+/// `k mod (number tied)` with `k` as in [`choose_move`]: the first observation of a turn
+/// takes the lowest id, the second spells the colour of the first.
 fn choose_observe(view: &PublicView<'_>, posterior: &[Colouring]) -> Action {
     let cards = view.config().cards();
     let counts = colour_counts(posterior, cards);
     let excluded = view.hinted_cards() | view.turn_observed();
-    let mut best: Option<(u32, usize)> = None;
-    for (card, count) in counts.iter().enumerate() {
-        if excluded & (1 << card) != 0 {
-            continue;
-        }
-        let certainty = *count.iter().max().unwrap_or(&0);
-        if best.is_none_or(|(b, _)| certainty < b) {
-            best = Some((certainty, card));
-        }
-    }
-    match best {
-        Some((_, card)) => Action::Observe(Card(card as u8)),
+    let cands: Vec<(u32, usize)> = counts
+        .iter()
+        .enumerate()
+        .filter(|&(card, _)| excluded & (1 << card) == 0)
+        .map(|(card, count)| (*count.iter().max().unwrap_or(&0), card))
+        .collect();
+    let Some(best) = cands.iter().map(|&(certainty, _)| certainty).min() else {
         // Unreachable in a valid config (Y − H ≥ 2); END is always legal at substep 0.
-        None => Action::End,
-    }
+        return Action::End;
+    };
+    let tied: Vec<usize> = cands
+        .iter()
+        .filter(|&&(certainty, _)| certainty == best)
+        .map(|&(_, card)| card)
+        .collect();
+    Action::Observe(Card(
+        tied[seen_this_turn(view, posterior) % tied.len()] as u8,
+    ))
 }
 
 /// P(same colour) of every pair of cards under `set`, as a flat `cards × cards` table.
