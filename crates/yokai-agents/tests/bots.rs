@@ -407,8 +407,9 @@ fn a_second_observation_tells_the_colour_of_the_first() {
 #[test]
 fn a_move_tells_the_partner_the_colours_its_mover_just_saw() {
     // After seat 0's first turn (observe, observe, move), seat 1's public set must still
-    // hold the true colouring, and in most deals it pins down both colours seat 0 saw:
-    // the move among equally good ones spells them (docs/bots.md, convention rule 3).
+    // hold the true colouring and pin down both colours seat 0 saw: the second observation
+    // spells the first colour and the move among equally good ones spells both
+    // (docs/bots.md, convention rules 2 and 3; 78 of 300 deals without rule 3).
     let config = Config::from_name("9c-2p-perfect").unwrap();
     let deals = 300u64;
     let mut told = 0;
@@ -444,7 +445,7 @@ fn a_move_tells_the_partner_the_colours_its_mover_just_saw() {
         }
     }
     assert!(
-        told * 10 >= deals * 6,
+        told * 20 >= deals * 19,
         "told in only {told} of {deals} deals"
     );
 }
