@@ -662,20 +662,25 @@ fn update_env<T: Scalar>(
     masks: &mut [u8],
     acting: &mut [u8],
 ) {
-    let Encoding::Image(part, _) = encoding else {
-        return write_env(game, image, encoding, sizes, j, obs, adj, masks, acting);
-    };
     acting[j] = game.current_seat().0;
     for s in 0..sizes.players {
         let seat = Seat(s as u8);
-        let o = &mut obs[(j * sizes.players + s) * sizes.obs..][..sizes.obs];
-        image
-            .update(game, seat, part, changes, o)
-            .expect("buffers are sized from the same config");
+        let o = &mut obs[(j * sizes.players + s) * sizes.obs.max(1)..][..sizes.obs];
+        match encoding {
+            Encoding::Image(part, _) => image.update(game, seat, part, changes, o),
+            // Graph features are a few hundred values: rewritten whole.
+            Encoding::Graph(part) => game.write_nodes(seat, part, o),
+            Encoding::None => Ok(()),
+        }
+        .expect("buffers are sized from the same config");
         game.mark_legal_mask(
             seat,
             &mut masks[(j * sizes.players + s) * sizes.actions..][..sizes.actions],
         );
+    }
+    if sizes.adjacency > 0 {
+        game.write_adjacency(&mut adj[j * sizes.adjacency..][..sizes.adjacency])
+            .expect("buffers are sized from the same config");
     }
 }
 
