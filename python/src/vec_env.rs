@@ -250,14 +250,17 @@ impl PyVecEnv {
         let inner = &mut self.inner;
         py.detach(|| {
             with_env!(inner, env => {
-                let mut actions = vec![0u32; n];
-                let mut ended = 0u64;
-                for t in 0..steps {
-                    env.sample_legal(seed.wrapping_add(t), &mut actions);
-                    env.step(&actions)?;
-                    ended += env.dones().iter().map(|&d| d as u64).sum::<u64>();
-                }
-                Ok(ended)
+                // On the environment's own threads: no hand-over per step.
+                env.on_workers(|env| {
+                    let mut actions = vec![0u32; n];
+                    let mut ended = 0u64;
+                    for t in 0..steps {
+                        env.sample_legal(seed.wrapping_add(t), &mut actions);
+                        env.step(&actions)?;
+                        ended += env.dones().iter().map(|&d| d as u64).sum::<u64>();
+                    }
+                    Ok(ended)
+                })
             })
         })
         .map_err(vec_error)
