@@ -318,7 +318,7 @@ pub struct ImageChanges {
 /// Writes image observations fast. The background (everything that does not depend on
 /// where the cards are) is precomputed for each (is-my-turn, substep) pair, so a full write
 /// is one `memcpy` plus the card and hint pixels; [`ImageEncoder::update`] goes further and
-/// rewrites only the pixels an action changed. Same output as [`Game::write_image_in`]
+/// writes only the channels an action changed. Same output as [`Game::write_image_in`]
 /// (tested).
 #[derive(Clone, Debug)]
 pub struct ImageEncoder<T: Scalar> {
@@ -369,7 +369,7 @@ impl<T: Scalar> ImageEncoder<T> {
 
     /// Bring `out`, which holds `seat`'s image of the game one action ago, up to date with
     /// `game`, given that action's [`ImageChanges`]. The private part is small and is
-    /// rewritten whole.
+    /// rewritten whole, and so is the image of a game that just ended (nobody's turn).
     #[inline]
     pub fn update(
         &self,
@@ -379,7 +379,7 @@ impl<T: Scalar> ImageEncoder<T> {
         changes: ImageChanges,
         out: &mut [T],
     ) -> Result<(), BufferError> {
-        if part == Part::Private {
+        if part == Part::Private || game.is_over() {
             return self.write(game, seat, part, out);
         }
         if out.len() != self.len {

@@ -366,7 +366,7 @@ pub fn play_checked(
         let action = player.pick(&game);
         let seat = game.current_seat().index();
         let step = recorded.apply(action).unwrap();
-        if deep && !step.done {
+        if deep {
             check_incremental(&game, action, recorded.game());
         }
         let twin_step = twin.apply(sym.apply_action(&config, action)).unwrap();
