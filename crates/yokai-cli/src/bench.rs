@@ -32,6 +32,10 @@ pub struct Args {
     /// (what conv layers take, and cheaper to update in place); also graph, none, ….
     #[arg(long, default_value = "image-chw,image", value_delimiter = ',')]
     encodings: Vec<String>,
+    /// Measure every row this many times and report the median, with the lowest and highest
+    /// reading beside it: on a shared machine single readings can move by a third.
+    #[arg(long, default_value_t = 1)]
+    repeats: usize,
     /// Games per work item handed to a thread.
     #[arg(long, default_value_t = 32)]
     chunk: usize,
@@ -95,6 +99,9 @@ pub fn run(args: Args) -> Result<(), String> {
     if args.seconds <= 0.0 || !args.seconds.is_finite() {
         return Err("--seconds must be positive".into());
     }
+    if args.repeats == 0 {
+        return Err("--repeats must be at least 1".into());
+    }
     let encodings = args
         .encodings
         .iter()
@@ -109,7 +116,12 @@ pub fn run(args: Args) -> Result<(), String> {
             "random legal actions, observations for every seat + legal masks, {threads} thread(s), {} s per row",
             args.seconds
         );
-        println!("| config | games | encoding | dtype | steps/s | paper H100 | ratio |");
+        let steps = if args.repeats > 1 {
+            format!("steps/s, median of {} (range)", args.repeats)
+        } else {
+            "steps/s".to_string()
+        };
+        println!("| config | games | encoding | dtype | {steps} | paper H100 | ratio |");
         println!("|---|---|---|---|---|---|---|");
     }
     for name in &args.configs {
@@ -123,19 +135,22 @@ pub fn run(args: Args) -> Result<(), String> {
                         chunk: args.chunk,
                         ..VecEnvOptions::new(envs, 0)
                     };
-                    let sps = match dtype.as_str() {
-                        "f32" => measure::<f32>(config, options, args.seconds)?,
-                        "u8" => measure::<u8>(config, options, args.seconds)?,
-                        other => {
-                            return Err(format!("unknown dtype `{other}` (expected f32 or u8)"))
-                        }
-                    };
+                    let mut samples = (0..args.repeats)
+                        .map(|_| match dtype.as_str() {
+                            "f32" => measure::<f32>(config, options, args.seconds),
+                            "u8" => measure::<u8>(config, options, args.seconds),
+                            other => Err(format!("unknown dtype `{other}` (expected f32 or u8)")),
+                        })
+                        .collect::<Result<Vec<f64>, String>>()?;
+                    samples.sort_by(f64::total_cmp);
+                    let sps = samples[samples.len() / 2];
                     let paper = paper_h100(&config, envs);
                     if args.json {
                         println!(
                             "{}",
                             json!({"config": config.to_string(), "envs": envs, "dtype": dtype, "threads": threads,
                                "encoding": encoding_name, "steps_per_second": sps.round(),
+                               "samples": samples.iter().map(|s| s.round()).collect::<Vec<_>>(),
                                "paper_h100": paper, "ratio": paper.map(|p| sps / p)})
                         );
                     } else {
@@ -143,7 +158,12 @@ pub fn run(args: Args) -> Result<(), String> {
                             Some(p) => (format!("{p:.0}"), format!("{:.1}×", sps / p)),
                             None => ("–".into(), "–".into()),
                         };
-                        println!("| {config} | {envs} | {encoding_name} | {dtype} | {sps:.0} | {p} | {r} |");
+                        let spread = if samples.len() > 1 {
+                            format!(" ({:.0}–{:.0})", samples[0], samples[samples.len() - 1])
+                        } else {
+                            String::new()
+                        };
+                        println!("| {config} | {envs} | {encoding_name} | {dtype} | {sps:.0}{spread} | {p} | {r} |");
                     }
                 }
             }

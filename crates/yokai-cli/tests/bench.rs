@@ -58,6 +58,44 @@ fn json_rows_cover_every_combination() {
 }
 
 #[test]
+fn repeats_report_the_median_of_their_samples() {
+    let out = yokai(&[
+        "bench",
+        "--configs",
+        "9c-2p",
+        "--envs",
+        "16",
+        "--encodings",
+        "none",
+        "--dtypes",
+        "u8",
+        "--seconds",
+        "0.02",
+        "--repeats",
+        "3",
+        "--json",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let row: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let samples: Vec<f64> = row["samples"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s.as_f64().unwrap())
+        .collect();
+    assert_eq!(samples.len(), 3);
+    assert!(samples.windows(2).all(|w| w[0] <= w[1]), "{samples:?}");
+    assert_eq!(row["steps_per_second"].as_f64(), Some(samples[1]));
+    let out = yokai(&["bench", "--repeats", "0"]);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--repeats must be at least 1"));
+}
+
+#[test]
 fn bad_options_are_errors_that_say_what() {
     let out = yokai(&["bench", "--encodings", "pixels", "--seconds", "0.01"]);
     assert!(!out.status.success());
