@@ -1,14 +1,8 @@
 //! `yokai bench` from the outside: one row per (config, games, encoding, dtype), the
 //! paper's figure beside the configs it measured, clear errors for bad options.
 
-use std::process::Command;
-
-fn yokai(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_yokai"))
-        .args(args)
-        .output()
-        .expect("runs")
-}
+mod common;
+use common::yokai;
 
 #[test]
 fn json_rows_cover_every_combination() {

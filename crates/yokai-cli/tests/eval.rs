@@ -1,13 +1,7 @@
 //! `yokai eval` from the outside: determinism, outputs, clear errors.
 
-use std::process::Command;
-
-fn yokai(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_yokai"))
-        .args(args)
-        .output()
-        .expect("runs")
-}
+mod common;
+use common::yokai;
 
 #[test]
 fn same_policies_and_seed_give_the_same_tables() {

@@ -1,15 +1,11 @@
 //! `yokai play`, `yokai replay` and `yokai train` from the outside.
 
+mod common;
+use common::yokai;
+
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::{Command, Output, Stdio};
-
-fn yokai(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_yokai"))
-        .args(args)
-        .output()
-        .expect("runs")
-}
 
 fn yokai_with_input(args: &[&str], input: &str) -> Output {
     let mut child = Command::new(env!("CARGO_BIN_EXE_yokai"))

@@ -289,7 +289,7 @@ impl<T: Scalar + Default> VecEnv<T> {
                 .for_each(|((((slots, obs), adj), masks), acting)| {
                     for (j, slot) in slots.iter().enumerate() {
                         write_env(
-                            &slot.game, image, encoding, sizes, j, obs, adj, masks, acting,
+                            &slot.game, image, encoding, sizes, j, None, obs, adj, masks, acting,
                         );
                     }
                 });
@@ -436,15 +436,13 @@ impl<T: Scalar + Default> VecEnv<T> {
                                 let env = chunk * c + j;
                                 slot.game =
                                     Game::new(config, episode_seed(seed, env, slot.episode));
-                                write_env(
-                                    &slot.game, image, encoding, sizes, j, obs, adj, masks, acting,
-                                );
-                            } else {
-                                update_env(
-                                    &slot.game, image, encoding, sizes, j, changes, obs, adj,
-                                    masks, acting,
-                                );
                             }
+                            // A game that just ended was reset above: written in full.
+                            let changes = (!step.done).then_some(changes);
+                            write_env(
+                                &slot.game, image, encoding, sizes, j, changes, obs, adj, masks,
+                                acting,
+                            );
                         }
                     },
                 );
@@ -492,6 +490,7 @@ impl<T: Scalar + Default> VecEnv<T> {
             self.options.encoding,
             sizes,
             0,
+            None,
             obs,
             adj,
             masks,
@@ -645,46 +644,11 @@ fn clear_masks(game: &Game, sizes: Sizes, j: usize, masks: &mut [u8]) {
     }
 }
 
-/// Bring the buffers of game `j` of a chunk up to date after one action that did not end
-/// it: masks were cleared by [`clear_masks`] and images change only where `changes` says.
-/// Same result as [`write_env`] (the equivalence tests compare every buffer every step).
-#[allow(clippy::too_many_arguments)]
-#[inline]
-fn update_env<T: Scalar>(
-    game: &Game,
-    image: &ImageEncoder<T>,
-    encoding: Encoding,
-    sizes: Sizes,
-    j: usize,
-    changes: ImageChanges,
-    obs: &mut [T],
-    adj: &mut [T],
-    masks: &mut [u8],
-    acting: &mut [u8],
-) {
-    acting[j] = game.current_seat().0;
-    for s in 0..sizes.players {
-        let seat = Seat(s as u8);
-        let o = &mut obs[(j * sizes.players + s) * sizes.obs.max(1)..][..sizes.obs];
-        match encoding {
-            Encoding::Image(part, _) => image.update(game, seat, part, changes, o),
-            // Graph features are a few hundred values: rewritten whole.
-            Encoding::Graph(part) => game.write_nodes(seat, part, o),
-            Encoding::None => Ok(()),
-        }
-        .expect("buffers are sized from the same config");
-        game.mark_legal_mask(
-            seat,
-            &mut masks[(j * sizes.players + s) * sizes.actions..][..sizes.actions],
-        );
-    }
-    if sizes.adjacency > 0 {
-        game.write_adjacency(&mut adj[j * sizes.adjacency..][..sizes.adjacency])
-            .expect("buffers are sized from the same config");
-    }
-}
-
-/// Write observations, adjacency, masks and acting seat of game `j` of a chunk.
+/// Write observations, adjacency, masks and acting seat of game `j` of a chunk: in full
+/// (`changes` is `None`: a new game, a reset, a restore), or in place after one action whose
+/// [`ImageChanges`] are given, over buffers that held the state before it and whose masks
+/// [`clear_masks`] cleared. Both give the same buffers (the equivalence tests compare every
+/// buffer every step).
 #[allow(clippy::too_many_arguments)]
 #[inline]
 fn write_env<T: Scalar>(
@@ -693,6 +657,7 @@ fn write_env<T: Scalar>(
     encoding: Encoding,
     sizes: Sizes,
     j: usize,
+    changes: Option<ImageChanges>,
     obs: &mut [T],
     adj: &mut [T],
     masks: &mut [u8],
@@ -702,16 +667,19 @@ fn write_env<T: Scalar>(
     for s in 0..sizes.players {
         let seat = Seat(s as u8);
         let o = &mut obs[(j * sizes.players + s) * sizes.obs.max(1)..][..sizes.obs];
-        let written = match encoding {
-            Encoding::Image(part, _) => image.write(game, seat, part, o),
-            Encoding::Graph(part) => game.write_nodes(seat, part, o),
-            Encoding::None => Ok(()),
-        };
-        written.expect("buffers are sized from the same config");
-        game.write_legal_mask(
-            seat,
-            &mut masks[(j * sizes.players + s) * sizes.actions..][..sizes.actions],
-        );
+        match (encoding, changes) {
+            (Encoding::Image(part, _), Some(changes)) => image.update(game, seat, part, changes, o),
+            (Encoding::Image(part, _), None) => image.write(game, seat, part, o),
+            // Graph features are a few hundred values: always rewritten whole.
+            (Encoding::Graph(part), _) => game.write_nodes(seat, part, o),
+            (Encoding::None, _) => Ok(()),
+        }
+        .expect("buffers are sized from the same config");
+        let mask = &mut masks[(j * sizes.players + s) * sizes.actions..][..sizes.actions];
+        match changes {
+            Some(_) => game.mark_legal_mask(seat, mask),
+            None => game.write_legal_mask(seat, mask),
+        }
     }
     if sizes.adjacency > 0 {
         game.write_adjacency(&mut adj[j * sizes.adjacency..][..sizes.adjacency])
