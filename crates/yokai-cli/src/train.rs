@@ -6,38 +6,30 @@ use std::path::{Path, PathBuf};
 use yokai_agents::PolicySpec;
 use yokai_train::{run::checkpoint_config, train_run, TrainConfig, TrainedPolicy};
 
+/// `(name, contents)` of each named file in `configs/`, built into the binary.
+macro_rules! presets {
+    ($($name:literal),* $(,)?) => {
+        &[$(($name, include_str!(concat!("../../../configs/", $name, ".toml")))),*]
+    };
+}
+
 /// The configs shipped in `configs/`, built into the binary so that their names work from
 /// any directory.
-const PRESETS: &[(&str, &str)] = &[
-    ("quick", include_str!("../../../configs/quick.toml")),
-    ("quick-op", include_str!("../../../configs/quick-op.toml")),
-    (
-        "ippo-9c-2p",
-        include_str!("../../../configs/ippo-9c-2p.toml"),
-    ),
-    ("he-9c-2p", include_str!("../../../configs/he-9c-2p.toml")),
-    ("op-9c-2p", include_str!("../../../configs/op-9c-2p.toml")),
-    (
-        "ippo-9c-3p",
-        include_str!("../../../configs/ippo-9c-3p.toml"),
-    ),
-    ("he-9c-3p", include_str!("../../../configs/he-9c-3p.toml")),
-    ("op-9c-3p", include_str!("../../../configs/op-9c-3p.toml")),
-    (
-        "ippo-9c-4p",
-        include_str!("../../../configs/ippo-9c-4p.toml"),
-    ),
-    ("he-9c-4p", include_str!("../../../configs/he-9c-4p.toml")),
-    ("op-9c-4p", include_str!("../../../configs/op-9c-4p.toml")),
-    (
-        "ippo-16c-2p",
-        include_str!("../../../configs/ippo-16c-2p.toml"),
-    ),
-    (
-        "ippo-9c-2p-imperfect",
-        include_str!("../../../configs/ippo-9c-2p-imperfect.toml"),
-    ),
-];
+const PRESETS: &[(&str, &str)] = presets!(
+    "quick",
+    "quick-op",
+    "ippo-9c-2p",
+    "he-9c-2p",
+    "op-9c-2p",
+    "ippo-9c-3p",
+    "he-9c-3p",
+    "op-9c-3p",
+    "ippo-9c-4p",
+    "he-9c-4p",
+    "op-9c-4p",
+    "ippo-16c-2p",
+    "ippo-9c-2p-imperfect",
+);
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -231,5 +223,21 @@ mod tests {
         for (name, text) in PRESETS {
             TrainConfig::from_toml_str(text, name).unwrap_or_else(|e| panic!("{name}: {e}"));
         }
+    }
+
+    #[test]
+    fn every_file_in_configs_is_a_preset() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../configs");
+        let mut files: Vec<String> = std::fs::read_dir(dir)
+            .unwrap()
+            .filter_map(|e| {
+                let name = e.unwrap().file_name().into_string().unwrap();
+                name.strip_suffix(".toml").map(String::from)
+            })
+            .collect();
+        files.sort();
+        let mut names: Vec<String> = PRESETS.iter().map(|(n, _)| n.to_string()).collect();
+        names.sort();
+        assert_eq!(files, names);
     }
 }
