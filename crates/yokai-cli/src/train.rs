@@ -4,7 +4,7 @@ use crate::eval::{evaluate, save_replays, summarise_groups, write_outputs, Entry
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
 use yokai_agents::PolicySpec;
-use yokai_train::{run::checkpoint_config, train_run, TrainConfig, TrainedPolicy};
+use yokai_train::{run::checkpoint_config, train_run, RunRequest, TrainConfig, TrainedPolicy};
 
 /// `(name, contents)` of each named file in `configs/`, built into the binary.
 macro_rules! presets {
@@ -145,21 +145,21 @@ pub fn run(args: Args) -> Result<(), String> {
         bar.set_prefix(seed.to_string());
         let summary = pool
             .install(|| {
-                train_run(
-                    &run_config,
+                let request = RunRequest {
+                    config: &run_config,
                     seed,
-                    &dir,
-                    args.resume,
-                    args.max_updates,
-                    &mut |s, _| {
-                        bar.set_position(s.update);
-                        let r = s.games.map_or("–".into(), |m| format!("{:+.2}", m.reward));
-                        bar.set_message(format!(
-                            "| {} steps | {:.0} SPS | R {r} | H {:.2}",
-                            s.env_steps, s.sps, s.entropy
-                        ));
-                    },
-                )
+                    dir: &dir,
+                    resume: args.resume,
+                    max_updates: args.max_updates,
+                };
+                train_run(&request, &mut |s, _| {
+                    bar.set_position(s.update);
+                    let r = s.games.map_or("–".into(), |m| format!("{:+.2}", m.reward));
+                    bar.set_message(format!(
+                        "| {} steps | {:.0} SPS | R {r} | H {:.2}",
+                        s.env_steps, s.sps, s.entropy
+                    ));
+                })
             })
             .map_err(|e| e.to_string())?;
         bar.finish_and_clear();

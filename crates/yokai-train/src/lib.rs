@@ -19,4 +19,4 @@ pub mod policy;
 pub mod run;
 
 pub use policy::{NetworkPolicy, TrainedPolicy};
-pub use run::{read_metrics, train_run, RunSummary};
+pub use run::{read_metrics, train_run, RunRequest, RunSummary};

@@ -42,27 +42,30 @@ fn io(path: &Path, e: std::io::Error) -> TrainError {
     }
 }
 
-/// Start a new run of `config` with `seed` in `dir` (which must not hold a run already),
-/// or continue the run in `dir` from its checkpoint when `resume` is set: the checkpoint's
-/// config governs then, except for `ppo.total_steps`, taken from `config` so that a run
-/// can be extended. `on_update` sees
-/// every update (for progress bars). Stops after `max_updates` updates of this call if
-/// given (the run can be resumed later), else at the end of the config's budget.
+/// One call of [`train_run`]: what to train, where, and how far.
+#[derive(Clone, Copy, Debug)]
+pub struct RunRequest<'a> {
+    pub config: &'a TrainConfig,
+    pub seed: u64,
+    /// The run directory. A new run needs one that holds no run yet.
+    pub dir: &'a Path,
+    /// Continue the run in `dir` from its checkpoint. The checkpoint's config governs then,
+    /// except for `ppo.total_steps`, taken from `config` so that a run can be extended.
+    pub resume: bool,
+    /// Stop after this many updates of this call (the run can be resumed later); `None`
+    /// runs to the end of the config's budget.
+    pub max_updates: Option<u64>,
+}
+
+/// Start or continue the run described by `request`. `on_update` sees every update (for
+/// progress bars).
 pub fn train_run(
-    config: &TrainConfig,
-    seed: u64,
-    dir: &Path,
-    resume: bool,
-    max_updates: Option<u64>,
+    request: &RunRequest<'_>,
     on_update: &mut dyn FnMut(&UpdateStats, u64),
 ) -> Result<RunSummary, TrainError> {
-    match config.network.preset {
-        NetworkPreset::Paper => {
-            run::<CnnEncoder>(config, seed, dir, resume, max_updates, on_update)
-        }
-        NetworkPreset::Compact => {
-            run::<MlpEncoder>(config, seed, dir, resume, max_updates, on_update)
-        }
+    match request.config.network.preset {
+        NetworkPreset::Paper => run::<CnnEncoder>(request, on_update),
+        NetworkPreset::Compact => run::<MlpEncoder>(request, on_update),
     }
 }
 
@@ -78,13 +81,16 @@ pub fn checkpoint_config(dir: &Path) -> Result<TrainConfig, TrainError> {
 }
 
 fn run<E: Encoder>(
-    config: &TrainConfig,
-    seed: u64,
-    dir: &Path,
-    resume: bool,
-    max_updates: Option<u64>,
+    request: &RunRequest<'_>,
     on_update: &mut dyn FnMut(&UpdateStats, u64),
 ) -> Result<RunSummary, TrainError> {
+    let RunRequest {
+        config,
+        seed,
+        dir,
+        resume,
+        max_updates,
+    } = *request;
     let start = std::time::Instant::now();
     let checkpoint = dir.join(CHECKPOINT);
     let metrics_path = dir.join(METRICS);

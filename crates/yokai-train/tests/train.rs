@@ -6,8 +6,8 @@ use yokai_agents::Policy;
 use yokai_engine::Part;
 use yokai_train::file::Container;
 use yokai_train::{
-    read_metrics, train_run, MlpEncoder, SymmetrySet, TrainConfig, TrainError, TrainedPolicy,
-    Trainer,
+    read_metrics, train_run, MlpEncoder, RunRequest, SymmetrySet, TrainConfig, TrainError,
+    TrainedPolicy, Trainer,
 };
 
 fn tiny(symmetries: SymmetrySet, updates: u64) -> TrainConfig {
@@ -162,8 +162,15 @@ fn resume_continues_exactly_like_an_uninterrupted_run() {
 fn a_run_directory_holds_config_metrics_checkpoint_and_a_playable_policy() {
     let dir = tempdir("run").join("seed-0");
     let config = tiny(SymmetrySet::None, 3);
+    let request = |config, resume, max_updates| RunRequest {
+        config,
+        seed: 0,
+        dir: &dir,
+        resume,
+        max_updates,
+    };
     let mut seen = Vec::new();
-    let summary = train_run(&config, 0, &dir, false, Some(2), &mut |s, total| {
+    let summary = train_run(&request(&config, false, Some(2)), &mut |s, total| {
         seen.push((s.update, total))
     })
     .unwrap();
@@ -173,16 +180,16 @@ fn a_run_directory_holds_config_metrics_checkpoint_and_a_playable_policy() {
     assert_eq!(saved, config);
     assert_eq!(read_metrics(&dir).unwrap().len(), 2);
     // A second start in the same directory is refused; --resume finishes the budget.
-    let again = train_run(&config, 0, &dir, false, None, &mut |_, _| {});
+    let again = train_run(&request(&config, false, None), &mut |_, _| {});
     assert!(again
         .unwrap_err()
         .to_string()
         .contains("already holds a run"));
-    let summary = train_run(&config, 0, &dir, true, None, &mut |_, _| {}).unwrap();
+    let summary = train_run(&request(&config, true, None), &mut |_, _| {}).unwrap();
     assert_eq!(summary.updates, 3);
     // A larger budget on resume extends the run.
     let longer = tiny(SymmetrySet::None, 4);
-    let summary = train_run(&longer, 0, &dir, true, None, &mut |_, _| {}).unwrap();
+    let summary = train_run(&request(&longer, true, None), &mut |_, _| {}).unwrap();
     assert_eq!(
         (summary.updates, summary.env_steps, summary.env_steps_here),
         (4, 4 * 64, 64)
