@@ -6,8 +6,10 @@
 //! must land on an empty cell adjacent to *every* group (it becomes the bridge), so the legal
 //! targets are the intersection of the groups' neighbourhoods, minus occupied cells and the
 //! card's own cell. When the rest stays connected (the usual case) that is simply the rest's
-//! neighbourhood. A card with a single neighbour is a leaf and can never split the rest, so
-//! it skips the fill. Each group costs one bitboard flood fill (a few shift/mask rounds).
+//! neighbourhood. A card whose side neighbours are linked through the 8 cells around it (a
+//! leaf, or a card inside a block) can never split the rest, so it skips the fill
+//! ([`crate::bitboard::RING_KEEPS_CONNECTED`]). Otherwise each group costs one bitboard
+//! flood fill (a few shift/mask rounds).
 
 use crate::action::Action;
 use crate::bitboard::{Bitboard, RING_KEEPS_CONNECTED};

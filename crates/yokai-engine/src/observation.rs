@@ -54,6 +54,15 @@ pub trait Scalar: Copy + PartialEq + std::fmt::Debug + Send + Sync + 'static {
     fn ratio(num: u32, den: u32) -> Self;
     /// The `num` this value was written from with denominator `den` (inverse of `ratio`).
     fn numerator(self, den: u32) -> u32;
+    /// `ONE` if `on`, else `ZERO`.
+    #[inline(always)]
+    fn flag(on: bool) -> Self {
+        if on {
+            Self::ONE
+        } else {
+            Self::ZERO
+        }
+    }
 }
 
 impl Scalar for f32 {
@@ -278,7 +287,7 @@ fn write_background<T: Scalar>(
     let s = Strides::new(config, ch.len, layout);
     let g = config.grid();
     let scale = g as u32 - 1;
-    let my_turn = if my_turn { T::ONE } else { T::ZERO };
+    let my_turn = T::flag(my_turn);
     let substep = T::ratio(substep as u32, 3);
     out.fill(T::ZERO);
     for r in 0..g {
@@ -420,37 +429,22 @@ impl<T: Scalar> ImageEncoder<T> {
             }
             game.write_card_pixel(card.index(), known, &ch, &s, out);
         }
+        // Hints change once a turn at most: their pixels are rewritten by the full writers,
+        // whose only zero-to-one change here is the revealed slot's "face down" mark.
         if let Some(slot) = changes.revealed {
-            let px = s.pixel(slot.index(), config.grid());
-            out[px + ch.present * s.channel] = T::ZERO;
-            for colour in game.hint_colours[slot.index()].colours() {
-                out[px + (ch.hint + colour.index()) * s.channel] = T::ONE;
-            }
+            out[s.pixel(slot.index(), config.grid()) + ch.present * s.channel] = T::ZERO;
+            game.write_slot_pixel(slot.index(), &ch, &s, out);
         }
         if let Some((slot, card)) = changes.placed {
-            out[s.pixel(slot.index(), config.grid()) + ch.hinted * s.channel] = T::ONE;
-            let px = card_pixel(card);
-            out[px + ch.hinted * s.channel] = T::ONE;
-            for colour in game.hint_colours[slot.index()].colours() {
-                out[px + (ch.hint + colour.index()) * s.channel] = T::ONE;
-            }
+            game.write_slot_pixel(slot.index(), &ch, &s, out);
+            game.write_card_pixel(card.index(), known, &ch, &s, out);
         }
         if let Some(cards) = changes.turn_end {
-            let my_turn = if seat.0 == game.current && !game.is_over() {
-                T::ONE
-            } else {
-                T::ZERO
-            };
-            broadcast(out, ch.my_turn, my_turn);
+            broadcast(out, ch.my_turn, T::flag(game.is_turn_of(seat)));
             for card in cards_in(cards) {
                 let px = card_pixel(card);
                 out[px + ch.observed * s.channel] = T::ZERO;
-                let shown = if known & card.bit() != 0 {
-                    T::ONE
-                } else {
-                    T::ZERO
-                };
-                out[px + colour_channel(card) * s.channel] = shown;
+                out[px + colour_channel(card) * s.channel] = T::flag(known & card.bit() != 0);
             }
         }
         Ok(())
@@ -519,7 +513,7 @@ impl Game {
             self.write_image_private(seat, layout, out);
             return Ok(());
         }
-        background(seat.0 == self.current && !self.is_over(), self.substep, out);
+        background(self.is_turn_of(seat), self.substep, out);
         let ch = self.config.image_channels();
         let s = Strides::new(&self.config, ch.len, layout);
         let known = self.known_in(seat, part);
@@ -543,6 +537,12 @@ impl Game {
         }
     }
 
+    /// Whether `seat` acts now ("my turn": nobody's once the game is over).
+    #[inline]
+    fn is_turn_of(&self, seat: Seat) -> bool {
+        seat.0 == self.current && !self.is_over()
+    }
+
     /// The cards whose colour `part` of `seat`'s observation shows.
     #[inline]
     fn known_in(&self, seat: Seat, part: Part) -> u32 {
@@ -561,7 +561,7 @@ impl Game {
         s.pixel(cell / g, cell % g)
     }
 
-    /// Write card `k`'s pixel over one whose card channels are zero.
+    /// Write card `k`'s pixel over one whose card channels are zero (or already hold it).
     #[inline(always)]
     fn write_card_pixel<T: Scalar>(
         &self,
@@ -571,10 +571,8 @@ impl Game {
         s: &Strides,
         out: &mut [T],
     ) {
-        let g = self.config.grid();
         let bit = 1u32 << k;
-        let cell = self.cell_of[k] as usize;
-        let px = s.pixel(cell / g, cell % g);
+        let px = self.card_pixel(Card(k as u8), s);
         let mut set = |channel: usize, value: T| out[px + channel * s.channel] = value;
         set(ch.present, T::ONE);
         set(ch.id, T::ratio(k as u32 + 1, self.config.cards() as u32));
@@ -592,7 +590,8 @@ impl Game {
         }
     }
 
-    /// Write hint slot `slot`'s row of the hint column over one whose card channels are zero.
+    /// Write hint slot `slot`'s row of the hint column over one whose card channels are zero
+    /// (or hold it as it was, up to the "face down" mark, which it only sets).
     #[inline(always)]
     fn write_slot_pixel<T: Scalar>(
         &self,
@@ -658,11 +657,7 @@ impl Game {
         let g = config.grid();
         let y = config.cards();
         let scale = g as u32 - 1;
-        let my_turn = if seat.0 == self.current && !self.is_over() {
-            T::ONE
-        } else {
-            T::ZERO
-        };
+        let my_turn = T::flag(self.is_turn_of(seat));
         let substep = T::ratio(self.substep as u32, 3);
         let place = |px: &mut [T], card: usize| {
             let cell = self.cell_of[card] as usize;
