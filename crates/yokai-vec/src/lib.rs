@@ -315,7 +315,9 @@ impl<T: Scalar + Default> VecEnv<T> {
     }
 
     /// Step every game with one action per seat (`actions[i·P + s]`, NOOP = 0 for every seat
-    /// but the acting one), the simultaneous-action API.
+    /// but the acting one), the simultaneous-action API. The waiting seats' NOOPs are checked
+    /// first, then the acting seats' actions as in [`VecEnv::step`]; the first illegal one is
+    /// the error, and nothing changes.
     pub fn step_joint(&mut self, actions: &[u32]) -> Result<(), VecError> {
         let n = self.options.num_envs;
         let p = self.config.players();
@@ -327,16 +329,23 @@ impl<T: Scalar + Default> VecEnv<T> {
             });
         }
         for i in 0..n {
-            for s in 0..p {
-                self.check(i, s, actions[i * p + s])?;
+            let acting = self.acting[i] as usize;
+            for s in (0..p).filter(|&s| s != acting) {
+                // A waiting seat's only legal action is NOOP (games here are never over),
+                // so only a non-NOOP needs the mask and the reason.
+                if actions[i * p + s] != 0 {
+                    self.check(i, s, actions[i * p + s])?;
+                }
             }
-            self.scratch[i] = actions[i * p + self.acting[i] as usize];
+            self.scratch[i] = actions[i * p + acting];
         }
         let scratch = std::mem::take(&mut self.scratch);
         let bad = self.apply(&scratch);
         self.scratch = scratch;
-        debug_assert!(bad.is_none(), "every action was checked above");
-        Ok(())
+        match bad {
+            Some(i) => self.check(i, self.acting[i] as usize, self.scratch[i]),
+            None => Ok(()),
+        }
     }
 
     /// Is `action` legal for `seat` of game `env`? Reads the mask; on failure asks the game
@@ -344,7 +353,7 @@ impl<T: Scalar + Default> VecEnv<T> {
     fn check(&self, env: usize, seat: usize, action: u32) -> Result<(), VecError> {
         let n_a = self.config.num_actions();
         let p = self.config.players();
-        if (action as usize) < n_a && self.masks[(env * p + seat) * n_a + action as usize] == 1 {
+        if allowed(&self.masks, n_a, p, env, seat, action) {
             return Ok(());
         }
         let game = &self.slots[env].game;
@@ -387,9 +396,10 @@ impl<T: Scalar + Default> VecEnv<T> {
             &mut self.outcomes,
         );
         self.pool.install(|| {
-            let bad = actions.par_iter().enumerate().position_first(|(i, &a)| {
-                (a as usize) >= n_a || masks[(i * p + acting[i] as usize) * n_a + a as usize] != 1
-            });
+            let bad = actions
+                .par_iter()
+                .enumerate()
+                .position_first(|(i, &a)| !allowed(masks, n_a, p, i, acting[i] as usize, a));
             if bad.is_some() {
                 return bad;
             }
@@ -590,6 +600,13 @@ impl<T: Scalar + Default> VecEnv<T> {
             });
         });
     }
+}
+
+/// Whether the mask of `seat` in game `env` allows action index `action` (an index out of
+/// range is not allowed).
+#[inline(always)]
+fn allowed(masks: &[u8], n_a: usize, p: usize, env: usize, seat: usize, action: u32) -> bool {
+    (action as usize) < n_a && masks[(env * p + seat) * n_a + action as usize] == 1
 }
 
 /// Number of nonzero bytes of a 0/1 mask; eight bytes at a time.

@@ -233,6 +233,15 @@ fn illegal_actions_are_errors_that_change_nothing() {
             .contains("env 2: seat 1 cannot play `observe card 1`: it is seat 0's turn"),
         "{err}"
     );
+    // ...and the acting seat's action is checked as in `step`, changing nothing on error.
+    let err = env.step_joint(&[2, 0, 0, 0, 2, 0, 1, 0]).unwrap_err();
+    assert!(
+        err.to_string()
+            .starts_with("env 1: seat 0 cannot play `noop`"),
+        "{err}"
+    );
+    assert_eq!(env.observations(), &before_obs[..]);
+    assert_eq!(env.game(0).steps(), 0);
     env.step_joint(&[2, 0, 2, 0, 2, 0, 1, 0]).unwrap();
     assert_eq!(env.dones(), &[0, 0, 0, 1]);
     assert!(env.outcomes()[3].unwrap().early_end);
