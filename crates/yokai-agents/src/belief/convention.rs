@@ -98,24 +98,20 @@ fn choose_observe(view: &PublicView<'_>, posterior: &[Colouring]) -> Action {
     let cards = view.config().cards();
     let counts = colour_counts(posterior, cards);
     let excluded = view.hinted_cards() | view.turn_observed();
-    let cands: Vec<(u32, usize)> = counts
+    // Score = uncertainty: the fewest colourings agreeing on the card's likeliest colour.
+    let options: Vec<(f64, Card)> = counts
         .iter()
         .enumerate()
         .filter(|&(card, _)| excluded & (1 << card) == 0)
-        .map(|(card, count)| (*count.iter().max().unwrap_or(&0), card))
+        .map(|(card, count)| {
+            (
+                -f64::from(*count.iter().max().unwrap_or(&0)),
+                Card(card as u8),
+            )
+        })
         .collect();
-    let Some(best) = cands.iter().map(|&(certainty, _)| certainty).min() else {
-        // Unreachable in a valid config (Y − H ≥ 2); END is always legal at substep 0.
-        return Action::End;
-    };
-    let tied: Vec<usize> = cands
-        .iter()
-        .filter(|&&(certainty, _)| certainty == best)
-        .map(|&(_, card)| card)
-        .collect();
-    Action::Observe(Card(
-        tied[seen_this_turn(view, posterior) % tied.len()] as u8,
-    ))
+    // `None` is unreachable in a valid config (Y − H ≥ 2); END is always legal at substep 0.
+    pick_tied(&options, seen_this_turn(view, posterior)).map_or(Action::End, Action::Observe)
 }
 
 /// P(same colour) of every pair of cards under `set`, as a flat `cards × cards` table.
@@ -166,15 +162,20 @@ fn choose_move(view: &PublicView<'_>, seat: Seat, posterior: &[Colouring]) -> Ac
             moves.push((gain, action));
         }
     });
-    let Some(best) = moves.iter().map(|&(gain, _)| gain).reduce(f64::max) else {
-        return Action::Noop;
+    pick_tied(&moves, seen_this_turn(view, posterior)).unwrap_or(Action::Noop)
+}
+
+/// Among `options` tied for the highest score, in their given order, the one numbered
+/// `k mod (number tied)`: how rules 2 and 3 make a choice between equally good options say
+/// what the actor saw. `None` if there are no options.
+fn pick_tied<A: Copy>(options: &[(f64, A)], k: usize) -> Option<A> {
+    let best = options.iter().map(|&(score, _)| score).reduce(f64::max)?;
+    let tied = || {
+        options
+            .iter()
+            .filter(move |&&(score, _)| score >= best - 1e-9)
     };
-    let tied: Vec<Action> = moves
-        .into_iter()
-        .filter(|&(gain, _)| gain >= best - 1e-9)
-        .map(|(_, action)| action)
-        .collect();
-    tied[seen_this_turn(view, posterior) % tied.len()]
+    tied().nth(k % tied().count()).map(|&(_, option)| option)
 }
 
 /// The colours of the cards observed this turn as a base-C number (cards in id order): what
