@@ -374,78 +374,73 @@ fn partner_after(config: Config, deal: &Deal, history: &[Action], seed: u64) -> 
     partner
 }
 
-#[test]
-fn a_second_observation_tells_the_colour_of_the_first() {
-    // Among equally uncertain cards, the second card observed in a turn spells the colour of
-    // the first (docs/bots.md, convention rule 2); the partner reads it from the public set.
+/// Plays `DEALS` deals of 9c-2p belief self-play (dealt from `first_deal` on) for `steps`
+/// actions, and counts the deals where seat 1's public set pins down the colours of the
+/// cards `named(history)` returns. The true colouring must never leave the public set.
+fn deals_where_partner_learns(
+    first_deal: u64,
+    steps: usize,
+    named: impl Fn(&[Action]) -> u32,
+) -> u64 {
     let config = Config::from_name("9c-2p-perfect").unwrap();
-    let deals = 300u64;
     let mut told = 0;
-    for seed in 0..deals {
-        let deal = Game::new(config, 70_000 + seed).deal();
-        let history = belief_history(config, &deal, 2, seed);
-        let Action::Observe(first) = history[0] else {
-            panic!("seed {seed}: a first turn starts with an observation");
-        };
+    for seed in 0..DEALS {
+        let deal = Game::new(config, first_deal + seed).deal();
+        let history = belief_history(config, &deal, steps, seed);
+        let cards = named(&history);
         let partner = partner_after(config, &deal, &history, seed);
         let truth = deal_of_truth(&deal);
-        assert!(partner.public_set().contains(&truth));
+        assert!(partner.is_trusting());
+        assert!(
+            partner.public_set().contains(&truth),
+            "seed {seed}: the truth left the public set"
+        );
         if partner
             .public_set()
             .iter()
-            .all(|x| x.colour_of(first) == truth.colour_of(first))
+            .all(|x| x.restricted(cards) == truth.restricted(cards))
         {
             told += 1;
         }
     }
+    told
+}
+
+const DEALS: u64 = 300;
+
+#[test]
+fn a_second_observation_tells_the_colour_of_the_first() {
+    // Among equally uncertain cards, the second card observed in a turn spells the colour of
+    // the first (docs/bots.md, convention rule 2); the partner reads it from the public set.
+    let told = deals_where_partner_learns(70_000, 2, |history| match history[0] {
+        Action::Observe(first) => first.bit(),
+        other => panic!("a first turn starts with an observation, not {other}"),
+    });
     assert!(
-        told * 20 >= deals * 19,
-        "told in only {told} of {deals} deals"
+        told * 20 >= DEALS * 19,
+        "told in only {told} of {DEALS} deals"
     );
 }
 
 #[test]
 fn a_move_tells_the_partner_the_colours_its_mover_just_saw() {
-    // After seat 0's first turn (observe, observe, move), seat 1's public set must still
-    // hold the true colouring and pin down both colours seat 0 saw: the second observation
-    // spells the first colour and the move among equally good ones spells both
-    // (docs/bots.md, convention rules 2 and 3; 78 of 300 deals without rule 3).
-    let config = Config::from_name("9c-2p-perfect").unwrap();
-    let deals = 300u64;
-    let mut told = 0;
-    for seed in 0..deals {
-        let game = Game::new(config, 50_000 + seed);
-        let deal = game.deal();
-        let history = belief_history(config, &deal, 3, seed);
-        let Action::Move(..) = history[2] else {
-            panic!(
-                "seed {seed}: the third action should be a move, not {}",
-                history[2]
-            );
-        };
-        let partner = partner_after(config, &deal, &history, seed);
-        let mut seen = 0u32;
-        for &action in &history {
-            if let Action::Observe(card) = action {
-                seen |= card.bit();
-            }
-        }
-        let public = partner.public_set();
-        let truth = deal_of_truth(&deal);
-        assert!(partner.is_trusting());
+    // After seat 0's first turn (observe, observe, move), seat 1's public set pins down both
+    // colours seat 0 saw: the second observation spells the first colour and the move among
+    // equally good ones spells both (docs/bots.md, convention rules 2 and 3; 78 of 300 deals
+    // without rule 3).
+    let told = deals_where_partner_learns(50_000, 3, |history| {
         assert!(
-            public.contains(&truth),
-            "seed {seed}: the truth left the public set"
+            matches!(history[2], Action::Move(..)),
+            "the third action should be a move, not {}",
+            history[2]
         );
-        if public
-            .iter()
-            .all(|x| x.restricted(seen) == truth.restricted(seen))
-        {
-            told += 1;
-        }
-    }
+        history.iter().fold(0, |seen, action| match action {
+            Action::Observe(card) => seen | card.bit(),
+            _ => seen,
+        })
+    });
     assert!(
-        told * 20 >= deals * 19,
-        "told in only {told} of {deals} deals"
+        told * 20 >= DEALS * 19,
+        "told in only {told} of {DEALS} deals"
     );
 }
