@@ -48,7 +48,10 @@ impl Bitboard {
     /// Cell indices in increasing order.
     #[inline]
     pub fn iter(self) -> BitIter {
-        BitIter(self.0)
+        BitIter {
+            low: self.0 as u64,
+            high: (self.0 >> 64) as u64,
+        }
     }
 }
 
@@ -107,19 +110,29 @@ impl fmt::Debug for Bitboard {
     }
 }
 
-/// Iterator over the set bits of a bitboard, lowest first.
-pub struct BitIter(u128);
+/// Iterator over the set bits of a bitboard, lowest first. It walks the two 64-bit halves
+/// one after the other: a u128 `trailing_zeros` and `x & (x - 1)` cost a select and a
+/// borrow across the halves on every bit, and move generation calls this once per target.
+pub struct BitIter {
+    low: u64,
+    high: u64,
+}
 
 impl Iterator for BitIter {
     type Item = usize;
     #[inline(always)]
     fn next(&mut self) -> Option<usize> {
-        if self.0 == 0 {
-            return None;
+        if self.low != 0 {
+            let i = self.low.trailing_zeros() as usize;
+            self.low &= self.low - 1;
+            return Some(i);
         }
-        let i = self.0.trailing_zeros() as usize;
-        self.0 &= self.0 - 1;
-        Some(i)
+        if self.high != 0 {
+            let i = self.high.trailing_zeros() as usize;
+            self.high &= self.high - 1;
+            return Some(64 + i);
+        }
+        None
     }
 }
 
@@ -239,24 +252,36 @@ impl Geometry {
         }
     }
 
+    /// The 3×3 block of `set` centred on `index`, as 9 bits: the cell `dr` rows and `dc`
+    /// columns away is bit `3·(dr+1) + (dc+1)`. Cells off the grid are out. Move generation
+    /// asks this once per card, so it is two shifts and two column tests rather than a
+    /// division and eight bounds checks.
+    #[inline(always)]
+    pub fn block(&self, index: usize, set: Bitboard) -> u16 {
+        let g = self.side();
+        // Bring the block's top-left cell (index − g − 1) to bit 0. Near the top edge it lies
+        // before the first cell, so shift the other way and let zeros (off the grid) in.
+        let s = if index > g {
+            (set.0 >> (index - g - 1)) as u64
+        } else {
+            (set.0 as u64) << (g + 1 - index)
+        };
+        let mut block = (s & 7) | ((s >> g) & 7) << 3 | ((s >> (2 * g)) & 7) << 6;
+        // Rows run on into each other in the bitboard: cut the column that wrapped around.
+        if !self.not_first_col.contains(index) {
+            block &= !0b001_001_001;
+        }
+        if !self.not_last_col.contains(index) {
+            block &= !0b100_100_100;
+        }
+        block as u16
+    }
+
     /// Which of the 8 cells around `index` are in `set`, as bits in ring order N, NE, E, SE,
     /// S, SW, W, NW (consecutive cells of the ring share a side). Cells off the grid are out.
-    #[inline(always)]
+    #[inline]
     pub fn ring(&self, index: usize, set: Bitboard) -> u8 {
-        let g = self.side() as isize;
-        let (r, c) = (index as isize / g, index as isize % g);
-        let at = |dr: isize, dc: isize| -> u8 {
-            let (rr, cc) = (r + dr, c + dc);
-            (rr >= 0 && cc >= 0 && rr < g && cc < g && set.contains((rr * g + cc) as usize)) as u8
-        };
-        at(-1, 0)
-            | at(-1, 1) << 1
-            | at(0, 1) << 2
-            | at(1, 1) << 3
-            | at(1, 0) << 4
-            | at(1, -1) << 5
-            | at(0, -1) << 6
-            | at(-1, -1) << 7
+        ring_of_block(self.block(index, set))
     }
 
     /// Whether `set` is one 4-connected group (the empty set counts as connected).
@@ -291,6 +316,35 @@ fn shr_small(b: u128, s: u32) -> u128 {
 /// cannot split a connected set that contains it, since any path through the cell can go
 /// around it instead; so move generation needs no flood fill for such a card.
 pub const RING_KEEPS_CONNECTED: [bool; 256] = ring_table();
+
+/// [`RING_KEEPS_CONNECTED`] indexed by a [`Geometry::block`] (the centre bit is ignored),
+/// so that move generation looks the answer up without reordering the bits.
+pub const BLOCK_KEEPS_CONNECTED: [bool; 512] = block_table();
+
+/// The block bit of each ring position N, NE, E, SE, S, SW, W, NW.
+const RING_IN_BLOCK: [u16; 8] = [1, 2, 5, 8, 7, 6, 3, 0];
+
+/// The ring pattern (see [`Geometry::ring`]) of a 3×3 block (see [`Geometry::block`]).
+const fn ring_of_block(block: u16) -> u8 {
+    let mut ring = 0u8;
+    let mut i = 0;
+    while i < 8 {
+        ring |= ((block >> RING_IN_BLOCK[i] & 1) as u8) << i;
+        i += 1;
+    }
+    ring
+}
+
+const fn block_table() -> [bool; 512] {
+    let ring = ring_table();
+    let mut table = [false; 512];
+    let mut block = 0;
+    while block < 512 {
+        table[block] = ring[ring_of_block(block as u16) as usize];
+        block += 1;
+    }
+    table
+}
 
 const fn ring_table() -> [bool; 256] {
     let mut table = [false; 256];
@@ -393,6 +447,35 @@ mod tests {
         assert!(kept > 0 && refused > 0);
         // Off-grid cells are out of the ring.
         assert_eq!(geo.ring(0, geo.board()), 0b0001_1100);
+    }
+
+    #[test]
+    fn block_is_the_3x3_neighbourhood_at_every_cell_of_every_grid() {
+        let mut x: u128 = 0x2545_f491_4f6c_dd1d_9e37_79b9_7f4a_7c15;
+        for side in 1..=MAX_GRID {
+            let geo = Geometry::new(side);
+            for _ in 0..50 {
+                x = x.rotate_left(23) ^ x.wrapping_mul(0x9e37_79b9_7f4a_7c15);
+                let set = Bitboard(x & geo.board().0);
+                for index in 0..geo.cells() {
+                    let (r, c) = (index / side, index % side);
+                    let mut expected = 0u16;
+                    for dr in 0..3 {
+                        for dc in 0..3 {
+                            let (rr, cc) = ((r + dr).wrapping_sub(1), (c + dc).wrapping_sub(1));
+                            if rr < side && cc < side && set.contains(rr * side + cc) {
+                                expected |= 1 << (3 * dr + dc);
+                            }
+                        }
+                    }
+                    assert_eq!(geo.block(index, set), expected, "side {side}, cell {index}");
+                    assert_eq!(
+                        BLOCK_KEEPS_CONNECTED[expected as usize],
+                        RING_KEEPS_CONNECTED[geo.ring(index, set) as usize]
+                    );
+                }
+            }
+        }
     }
 
     #[test]

@@ -8,11 +8,11 @@
 //! card's own cell. When the rest stays connected (the usual case) that is simply the rest's
 //! neighbourhood. A card whose side neighbours are linked through the 8 cells around it (a
 //! leaf, or a card inside a block) can never split the rest, so it skips the fill
-//! ([`crate::bitboard::RING_KEEPS_CONNECTED`]). Otherwise each group costs one bitboard
+//! ([`crate::bitboard::RING_KEEPS_CONNECTED`], looked up by the card's 3×3 block). Otherwise each group costs one bitboard
 //! flood fill (a few shift/mask rounds).
 
 use crate::action::Action;
-use crate::bitboard::{Bitboard, RING_KEEPS_CONNECTED};
+use crate::bitboard::{Bitboard, BLOCK_KEEPS_CONNECTED};
 use crate::game::{Game, Substep};
 use crate::observation::Scalar;
 use crate::types::{cards_in, Card, Seat};
@@ -147,7 +147,7 @@ fn move_targets(game: &Game, from: usize) -> Bitboard {
     let empty = geo.board() & !game.occupied;
     // A card whose side neighbours are linked around it (a leaf, or a card inside a
     // block) cannot disconnect the rest: no flood fill needed.
-    if RING_KEEPS_CONNECTED[geo.ring(from, rest) as usize] {
+    if BLOCK_KEEPS_CONNECTED[geo.block(from, rest) as usize] {
         return geo.neighbours(rest) & empty;
     }
     let first = geo.flood(rest.lowest(), rest);
