@@ -193,6 +193,30 @@ fn stepping_on_the_workers_gives_the_same_buffers() {
 }
 
 #[test]
+fn the_error_names_the_first_illegal_game_whichever_chunk_or_thread_finds_one() {
+    let config = Config::from_name("9c-2p").unwrap();
+    let mv = config.encode(Action::Move(
+        yokai_engine::Card(0),
+        yokai_engine::Cell::new(0, 0),
+    )) as u32;
+    for threads in [1, 2] {
+        let options = VecEnvOptions {
+            threads: Some(threads),
+            chunk: 4,
+            ..VecEnvOptions::new(64, 3)
+        };
+        let mut env = VecEnv::<u8>::new(config, options).unwrap();
+        let mut actions = vec![1u32; 64]; // END: legal at substep 0
+        for bad in [60, 37, 9, 10] {
+            actions[bad] = mv;
+        }
+        let err = env.step(&actions).unwrap_err();
+        assert!(matches!(err, VecError::Action { env: 9, .. }), "{err}");
+        assert!((0..64).all(|i| env.game(i).steps() == 0));
+    }
+}
+
+#[test]
 fn illegal_actions_are_errors_that_change_nothing() {
     let config = Config::from_name("9c-2p").unwrap();
     let mut env = VecEnv::<f32>::new(config, VecEnvOptions::new(4, 1)).unwrap();
