@@ -77,7 +77,14 @@ impl Game {
     /// rather than a clear of all N_a entries per seat and step.
     #[inline]
     pub fn clear_legal_mask<T: Scalar>(&self, seat: Seat, out: &mut [T]) {
-        out[self.legal_span(seat)].fill(T::ZERO);
+        let span = self.legal_span(seat);
+        if span.len() == 1 {
+            // A waiting seat's NOOP, every step for every seat but one: one store instead
+            // of a call to `memset`.
+            out[span.start] = T::ZERO;
+        } else {
+            out[span].fill(T::ZERO);
+        }
     }
 
     /// Call `f` on every legal action of `seat`, in index order.
