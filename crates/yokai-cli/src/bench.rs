@@ -1,6 +1,7 @@
 //! `yokai bench`: environment steps per second with random legal actions, beside the
 //! paper's H100 figures.
 
+use indicatif::{ProgressBar, ProgressStyle};
 use serde_json::json;
 use std::time::{Duration, Instant};
 use yokai_engine::{Config, Scalar};
@@ -33,7 +34,8 @@ pub struct Args {
     #[arg(long, default_value = "image-chw,image", value_delimiter = ',')]
     encodings: Vec<String>,
     /// Measure every row this many times and report the median, with the lowest and highest
-    /// reading beside it: on a shared machine single readings can move by a third.
+    /// reading beside it: on a shared machine single readings can move by a third. The runs
+    /// go round all rows N times, so every row is sampled across the whole measurement.
     #[arg(long, default_value_t = 1)]
     repeats: usize,
     /// Games per work item handed to a thread.
@@ -95,6 +97,46 @@ fn measure<T: Scalar + Default>(
     Ok((iterations * n as u64) as f64 / elapsed.as_secs_f64())
 }
 
+/// One line of the report: what is measured.
+struct Row {
+    config: Config,
+    envs: usize,
+    encoding_name: String,
+    options: VecEnvOptions,
+    dtype: Dtype,
+}
+
+#[derive(Clone, Copy)]
+enum Dtype {
+    F32,
+    U8,
+}
+
+impl Dtype {
+    fn parse(name: &str) -> Result<Dtype, String> {
+        match name {
+            "f32" => Ok(Dtype::F32),
+            "u8" => Ok(Dtype::U8),
+            other => Err(format!("unknown dtype `{other}` (expected f32 or u8)")),
+        }
+    }
+    fn name(self) -> &'static str {
+        match self {
+            Dtype::F32 => "f32",
+            Dtype::U8 => "u8",
+        }
+    }
+}
+
+impl Row {
+    fn measure(&self, seconds: f64) -> Result<f64, String> {
+        match self.dtype {
+            Dtype::F32 => measure::<f32>(self.config, self.options, seconds),
+            Dtype::U8 => measure::<u8>(self.config, self.options, seconds),
+        }
+    }
+}
+
 pub fn run(args: Args) -> Result<(), String> {
     if args.seconds <= 0.0 || !args.seconds.is_finite() {
         return Err("--seconds must be positive".into());
@@ -102,18 +144,28 @@ pub fn run(args: Args) -> Result<(), String> {
     if args.repeats == 0 {
         return Err("--repeats must be at least 1".into());
     }
-    let encodings = args
-        .encodings
-        .iter()
-        .map(|name| yokai_vec::Encoding::parse(name).map(|e| (name.as_str(), e)))
-        .collect::<Result<Vec<_>, _>>()
-        .map_err(|e| e.to_string())?;
     let threads = args
         .threads
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    let rows = rows(&args, threads)?;
+    // Repeats go round the rows rather than one row at a time: the machine's speed drifts
+    // over minutes, and this way every row's samples span the whole run.
+    let bar = ProgressBar::new((rows.len() * args.repeats) as u64).with_style(
+        ProgressStyle::with_template("{spinner} measuring [{bar:30}] {pos}/{len} runs (eta {eta})")
+            .expect("valid template")
+            .progress_chars("=> "),
+    );
+    let mut samples = vec![Vec::with_capacity(args.repeats); rows.len()];
+    for _ in 0..args.repeats {
+        for (row, samples) in rows.iter().zip(&mut samples) {
+            samples.push(row.measure(args.seconds)?);
+            bar.inc(1);
+        }
+    }
+    bar.finish_and_clear();
     if !args.json {
         println!(
-            "random legal actions, observations for every seat + legal masks, {threads} thread(s), {} s per row",
+            "random legal actions, observations for every seat + legal masks, {threads} thread(s), {} s per run",
             args.seconds
         );
         let steps = if args.repeats > 1 {
@@ -124,50 +176,76 @@ pub fn run(args: Args) -> Result<(), String> {
         println!("| config | games | encoding | dtype | {steps} | paper H100 | ratio |");
         println!("|---|---|---|---|---|---|---|");
     }
+    for (row, mut samples) in rows.iter().zip(samples) {
+        samples.sort_by(f64::total_cmp);
+        let sps = samples[samples.len() / 2];
+        let (config, envs, encoding_name, dtype) =
+            (row.config, row.envs, &row.encoding_name, row.dtype.name());
+        let paper = paper_h100(&config, envs);
+        if args.json {
+            println!(
+                "{}",
+                json!({"config": config.to_string(), "envs": envs, "dtype": dtype, "threads": threads,
+                   "encoding": encoding_name, "steps_per_second": sps.round(),
+                   "samples": samples.iter().map(|s| s.round()).collect::<Vec<_>>(),
+                   "paper_h100": paper, "ratio": paper.map(|p| sps / p)})
+            );
+        } else {
+            let (p, r) = match paper {
+                Some(p) => (format!("{p:.0}"), format!("{:.1}×", sps / p)),
+                None => ("–".into(), "–".into()),
+            };
+            let spread = if samples.len() > 1 {
+                format!(" ({:.0}–{:.0})", samples[0], samples[samples.len() - 1])
+            } else {
+                String::new()
+            };
+            println!(
+                "| {config} | {envs} | {encoding_name} | {dtype} | {sps:.0}{spread} | {p} | {r} |"
+            );
+        }
+    }
+    Ok(())
+}
+
+/// Every (config, games, encoding, dtype) the options ask for, checked before any is
+/// measured so that a typo fails at once rather than after minutes of measuring.
+fn rows(args: &Args, threads: usize) -> Result<Vec<Row>, String> {
+    let encodings = args
+        .encodings
+        .iter()
+        .map(|name| yokai_vec::Encoding::parse(name).map(|e| (name.as_str(), e)))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|e| e.to_string())?;
+    let dtypes = args
+        .dtypes
+        .iter()
+        .map(|d| Dtype::parse(d))
+        .collect::<Result<Vec<_>, _>>()?;
+    let mut rows = Vec::new();
     for name in &args.configs {
         let config = Config::resolve(name).map_err(|e| e.to_string())?;
         for &envs in &args.envs {
+            if envs == 0 {
+                return Err("--envs: every number of games must be at least 1".into());
+            }
             for &(encoding_name, encoding) in &encodings {
-                for dtype in &args.dtypes {
-                    let options = VecEnvOptions {
-                        encoding,
-                        threads: Some(threads),
-                        chunk: args.chunk,
-                        ..VecEnvOptions::new(envs, 0)
-                    };
-                    let mut samples = (0..args.repeats)
-                        .map(|_| match dtype.as_str() {
-                            "f32" => measure::<f32>(config, options, args.seconds),
-                            "u8" => measure::<u8>(config, options, args.seconds),
-                            other => Err(format!("unknown dtype `{other}` (expected f32 or u8)")),
-                        })
-                        .collect::<Result<Vec<f64>, String>>()?;
-                    samples.sort_by(f64::total_cmp);
-                    let sps = samples[samples.len() / 2];
-                    let paper = paper_h100(&config, envs);
-                    if args.json {
-                        println!(
-                            "{}",
-                            json!({"config": config.to_string(), "envs": envs, "dtype": dtype, "threads": threads,
-                               "encoding": encoding_name, "steps_per_second": sps.round(),
-                               "samples": samples.iter().map(|s| s.round()).collect::<Vec<_>>(),
-                               "paper_h100": paper, "ratio": paper.map(|p| sps / p)})
-                        );
-                    } else {
-                        let (p, r) = match paper {
-                            Some(p) => (format!("{p:.0}"), format!("{:.1}×", sps / p)),
-                            None => ("–".into(), "–".into()),
-                        };
-                        let spread = if samples.len() > 1 {
-                            format!(" ({:.0}–{:.0})", samples[0], samples[samples.len() - 1])
-                        } else {
-                            String::new()
-                        };
-                        println!("| {config} | {envs} | {encoding_name} | {dtype} | {sps:.0}{spread} | {p} | {r} |");
-                    }
+                for &dtype in &dtypes {
+                    rows.push(Row {
+                        config,
+                        envs,
+                        encoding_name: encoding_name.to_string(),
+                        options: VecEnvOptions {
+                            encoding,
+                            threads: Some(threads),
+                            chunk: args.chunk,
+                            ..VecEnvOptions::new(envs, 0)
+                        },
+                        dtype,
+                    });
                 }
             }
         }
     }
-    Ok(())
+    Ok(rows)
 }

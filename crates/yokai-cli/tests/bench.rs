@@ -105,4 +105,25 @@ fn bad_options_are_errors_that_say_what() {
     ]);
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("unknown dtype `f16`"));
+    // Every row is checked before any is measured: nothing is printed for the good dtype.
+    let out = yokai(&[
+        "bench",
+        "--dtypes",
+        "f32,f16",
+        "--seconds",
+        "0.01",
+        "--envs",
+        "8",
+        "--json",
+    ]);
+    assert!(!out.status.success());
+    assert!(
+        out.stdout.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&out.stdout)
+    );
+    let out = yokai(&["bench", "--envs", "8,0", "--seconds", "0.01"]);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr)
+        .contains("--envs: every number of games must be at least 1"));
 }
