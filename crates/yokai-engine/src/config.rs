@@ -2,7 +2,7 @@
 //! parsing from a short name (`9c-2p-perfect`) or a TOML file.
 //!
 //! A [`Config`] only exists validated: every constructor goes through [`ConfigSpec`] and
-//! [`Config::validate`], so code holding a `Config` never re-checks sizes. It is `Copy` and
+//! `Config::validate`, so code holding a `Config` never re-checks sizes. It is `Copy` and
 //! small because every game and every batched environment carries one.
 
 use crate::bitboard::{Geometry, MAX_GRID};
