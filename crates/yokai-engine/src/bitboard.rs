@@ -277,13 +277,6 @@ impl Geometry {
         block as u16
     }
 
-    /// Which of the 8 cells around `index` are in `set`, as bits in ring order N, NE, E, SE,
-    /// S, SW, W, NW (consecutive cells of the ring share a side). Cells off the grid are out.
-    #[inline]
-    pub fn ring(&self, index: usize, set: Bitboard) -> u8 {
-        ring_of_block(self.block(index, set))
-    }
-
     /// Whether `set` is one 4-connected group (the empty set counts as connected).
     #[inline]
     pub fn is_connected(&self, set: Bitboard) -> bool {
@@ -311,20 +304,18 @@ fn shr_small(b: u128, s: u32) -> u128 {
     ((hi >> s) as u128) << 64 | lo as u128
 }
 
-/// For each [`Geometry::ring`] pattern around a cell: whether the pattern's side neighbours
-/// (N, E, S, W) are linked to each other within the ring. If they are, taking the cell away
-/// cannot split a connected set that contains it, since any path through the cell can go
-/// around it instead; so move generation needs no flood fill for such a card.
-pub const RING_KEEPS_CONNECTED: [bool; 256] = ring_table();
-
-/// [`RING_KEEPS_CONNECTED`] indexed by a [`Geometry::block`] (the centre bit is ignored),
-/// so that move generation looks the answer up without reordering the bits.
+/// For each [`Geometry::block`] around a cell (the centre bit is ignored): whether the
+/// cell's side neighbours (N, E, S, W) are linked to each other through the 8 cells around
+/// it. If they are, taking the cell away cannot split a connected set that contains it,
+/// since any path through the cell can go around it instead; so move generation needs no
+/// flood fill for such a card.
 pub const BLOCK_KEEPS_CONNECTED: [bool; 512] = block_table();
 
-/// The block bit of each ring position N, NE, E, SE, S, SW, W, NW.
+/// The block bit of each ring position N, NE, E, SE, S, SW, W, NW (consecutive positions
+/// share a side, so links are runs of set bits on the cyclic ring).
 const RING_IN_BLOCK: [u16; 8] = [1, 2, 5, 8, 7, 6, 3, 0];
 
-/// The ring pattern (see [`Geometry::ring`]) of a 3×3 block (see [`Geometry::block`]).
+/// The 8 cells around the centre of a 3×3 block, as bits in ring order.
 const fn ring_of_block(block: u16) -> u8 {
     let mut ring = 0u8;
     let mut i = 0;
@@ -346,6 +337,7 @@ const fn block_table() -> [bool; 512] {
     table
 }
 
+/// For each ring pattern: whether its side cells are linked within the ring.
 const fn ring_table() -> [bool; 256] {
     let mut table = [false; 256];
     let mut pattern = 0;
@@ -424,19 +416,20 @@ mod tests {
             (1, 1),
         ];
         let (mut kept, mut refused) = (0, 0);
-        for (pattern, &keeps) in RING_KEEPS_CONNECTED.iter().enumerate() {
+        for pattern in 0..256usize {
             let mut set = Bitboard::from_index(centre);
             for (i, &(r, c)) in ring_cells.iter().enumerate() {
                 if pattern >> i & 1 == 1 {
                     set |= Bitboard::from_index(geo.index(Cell::new(r, c)));
                 }
             }
-            assert_eq!(geo.ring(centre, set) as usize, pattern);
+            let block = geo.block(centre, set);
+            assert_eq!(ring_of_block(block) as usize, pattern);
             if !geo.is_connected(set) {
                 continue;
             }
             let rest = set ^ Bitboard::from_index(centre);
-            if keeps {
+            if BLOCK_KEEPS_CONNECTED[block as usize] {
                 assert!(geo.is_connected(rest), "pattern {pattern:08b}");
                 kept += 1;
             } else {
@@ -446,7 +439,7 @@ mod tests {
         }
         assert!(kept > 0 && refused > 0);
         // Off-grid cells are out of the ring.
-        assert_eq!(geo.ring(0, geo.board()), 0b0001_1100);
+        assert_eq!(ring_of_block(geo.block(0, geo.board())), 0b0001_1100);
     }
 
     #[test]
@@ -469,10 +462,6 @@ mod tests {
                         }
                     }
                     assert_eq!(geo.block(index, set), expected, "side {side}, cell {index}");
-                    assert_eq!(
-                        BLOCK_KEEPS_CONNECTED[expected as usize],
-                        RING_KEEPS_CONNECTED[geo.ring(index, set) as usize]
-                    );
                 }
             }
         }

@@ -8,7 +8,7 @@
 //! card's own cell. When the rest stays connected (the usual case) that is simply the rest's
 //! neighbourhood. A card whose side neighbours are linked through the 8 cells around it (a
 //! leaf, or a card inside a block) can never split the rest, so it skips the fill
-//! ([`crate::bitboard::RING_KEEPS_CONNECTED`], looked up by the card's 3×3 block).
+//! ([`crate::bitboard::BLOCK_KEEPS_CONNECTED`], looked up by the card's 3×3 block).
 //! Otherwise each group costs one bitboard flood fill (a few shift/mask rounds).
 
 use crate::action::Action;

@@ -189,6 +189,8 @@ struct Strides {
     row: usize,
     col: usize,
     channel: usize,
+    /// g: board cell `i` of the bitboard is at row `i / g`, column `i % g`.
+    grid: usize,
 }
 
 impl Strides {
@@ -199,11 +201,13 @@ impl Strides {
                 row: width * channels,
                 col: channels,
                 channel: 1,
+                grid: g,
             },
             ImageLayout::Chw => Strides {
                 row: width,
                 col: 1,
                 channel: g * width,
+                grid: g,
             },
         }
     }
@@ -212,6 +216,18 @@ impl Strides {
     #[inline(always)]
     fn pixel(&self, row: usize, col: usize) -> usize {
         row * self.row + col * self.col
+    }
+
+    /// Offset of channel 0 of the pixel of board cell `cell` (a bitboard index).
+    #[inline(always)]
+    fn cell(&self, cell: usize) -> usize {
+        self.pixel(cell / self.grid, cell % self.grid)
+    }
+
+    /// Offset of channel 0 of hint slot `slot`'s row of the hint column.
+    #[inline(always)]
+    fn slot(&self, slot: usize) -> usize {
+        self.pixel(slot, self.grid)
     }
 }
 
@@ -356,10 +372,6 @@ impl<T: Scalar> ImageEncoder<T> {
         }
     }
 
-    pub fn layout(&self) -> ImageLayout {
-        self.layout
-    }
-
     /// Write `seat`'s image of `game` (which must have this encoder's config).
     #[inline]
     pub fn write(
@@ -422,8 +434,7 @@ impl<T: Scalar> ImageEncoder<T> {
         }
         if let Some((card, from)) = changes.moved {
             // A moving card is unhinted: only these channels are set on the cell it left.
-            let g = config.grid();
-            let from = s.pixel(from as usize / g, from as usize % g);
+            let from = s.cell(from as usize);
             for channel in [ch.present, ch.id, ch.observed, colour_channel(card)] {
                 out[from + channel * s.channel] = T::ZERO;
             }
@@ -432,7 +443,7 @@ impl<T: Scalar> ImageEncoder<T> {
         // Hints change once a turn at most: their pixels are rewritten by the full writers,
         // whose only zero-to-one change here is the revealed slot's "face down" mark.
         if let Some(slot) = changes.revealed {
-            out[s.pixel(slot.index(), config.grid()) + ch.present * s.channel] = T::ZERO;
+            out[s.slot(slot.index()) + ch.present * s.channel] = T::ZERO;
             game.write_slot_pixel(slot.index(), &ch, &s, out);
         }
         if let Some((slot, card)) = changes.placed {
@@ -527,13 +538,11 @@ impl Game {
     }
 
     fn write_image_private<T: Scalar>(&self, seat: Seat, layout: ImageLayout, out: &mut [T]) {
-        let g = self.config.grid();
         let s = Strides::new(&self.config, self.config.colours(), layout);
         out.fill(T::ZERO);
         for card in cards_in(self.known_cards(seat)) {
-            let cell = self.cell_of[card.index()] as usize;
             let colour = self.colour_of[card.index()].index();
-            out[s.pixel(cell / g, cell % g) + colour * s.channel] = T::ONE;
+            out[self.card_pixel(card, &s) + colour * s.channel] = T::ONE;
         }
     }
 
@@ -556,9 +565,7 @@ impl Game {
     /// Offset of channel 0 of `card`'s pixel.
     #[inline(always)]
     fn card_pixel(&self, card: Card, s: &Strides) -> usize {
-        let g = self.config.grid();
-        let cell = self.cell_of[card.index()] as usize;
-        s.pixel(cell / g, cell % g)
+        s.cell(self.cell_of[card.index()] as usize)
     }
 
     /// Write card `k`'s pixel over one whose card channels are zero (or already hold it).
@@ -600,7 +607,7 @@ impl Game {
         s: &Strides,
         out: &mut [T],
     ) {
-        let px = s.pixel(slot, self.config.grid());
+        let px = s.slot(slot);
         let mut set = |channel: usize| out[px + channel * s.channel] = T::ONE;
         if slot < self.revealed as usize {
             for colour in self.hint_colours[slot].colours() {
