@@ -100,7 +100,6 @@ fn measure<T: Scalar + Default>(
 /// One line of the report: what is measured.
 struct Row {
     config: Config,
-    envs: usize,
     encoding_name: String,
     options: VecEnvOptions,
     dtype: Dtype,
@@ -179,8 +178,12 @@ pub fn run(args: Args) -> Result<(), String> {
     for (row, mut samples) in rows.iter().zip(samples) {
         samples.sort_by(f64::total_cmp);
         let sps = samples[samples.len() / 2];
-        let (config, envs, encoding_name, dtype) =
-            (row.config, row.envs, &row.encoding_name, row.dtype.name());
+        let (config, envs, encoding_name, dtype) = (
+            row.config,
+            row.options.num_envs,
+            &row.encoding_name,
+            row.dtype.name(),
+        );
         let paper = paper_h100(&config, envs);
         if args.json {
             println!(
@@ -233,7 +236,6 @@ fn rows(args: &Args, threads: usize) -> Result<Vec<Row>, String> {
                 for &dtype in &dtypes {
                     rows.push(Row {
                         config,
-                        envs,
                         encoding_name: encoding_name.to_string(),
                         options: VecEnvOptions {
                             encoding,

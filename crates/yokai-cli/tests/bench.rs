@@ -2,11 +2,11 @@
 //! paper's figure beside the configs it measured, clear errors for bad options.
 
 mod common;
-use common::yokai;
+use common::{yokai, yokai_err, yokai_ok};
 
 #[test]
 fn json_rows_cover_every_combination() {
-    let out = yokai(&[
+    let stdout = yokai_ok(&[
         "bench",
         "--configs",
         "9c-2p-perfect,16c-3p",
@@ -22,12 +22,7 @@ fn json_rows_cover_every_combination() {
         "2",
         "--json",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let rows: Vec<serde_json::Value> = String::from_utf8(out.stdout)
+    let rows: Vec<serde_json::Value> = String::from_utf8(stdout)
         .unwrap()
         .lines()
         .map(|l| serde_json::from_str(l).unwrap())
@@ -53,7 +48,7 @@ fn json_rows_cover_every_combination() {
 
 #[test]
 fn repeats_report_the_median_of_their_samples() {
-    let out = yokai(&[
+    let stdout = yokai_ok(&[
         "bench",
         "--configs",
         "9c-2p",
@@ -69,12 +64,7 @@ fn repeats_report_the_median_of_their_samples() {
         "3",
         "--json",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let row: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let row: serde_json::Value = serde_json::from_slice(&stdout).unwrap();
     let samples: Vec<f64> = row["samples"]
         .as_array()
         .unwrap()
@@ -84,17 +74,16 @@ fn repeats_report_the_median_of_their_samples() {
     assert_eq!(samples.len(), 3);
     assert!(samples.windows(2).all(|w| w[0] <= w[1]), "{samples:?}");
     assert_eq!(row["steps_per_second"].as_f64(), Some(samples[1]));
-    let out = yokai(&["bench", "--repeats", "0"]);
-    assert!(!out.status.success());
-    assert!(String::from_utf8_lossy(&out.stderr).contains("--repeats must be at least 1"));
+    assert!(yokai_err(&["bench", "--repeats", "0"]).contains("--repeats must be at least 1"));
 }
 
 #[test]
 fn bad_options_are_errors_that_say_what() {
-    let out = yokai(&["bench", "--encodings", "pixels", "--seconds", "0.01"]);
-    assert!(!out.status.success());
-    assert!(String::from_utf8_lossy(&out.stderr).contains("unknown observation encoding `pixels`"));
-    let out = yokai(&[
+    assert!(
+        yokai_err(&["bench", "--encodings", "pixels", "--seconds", "0.01"])
+            .contains("unknown observation encoding `pixels`")
+    );
+    let err = yokai_err(&[
         "bench",
         "--dtypes",
         "f16",
@@ -103,8 +92,7 @@ fn bad_options_are_errors_that_say_what() {
         "--envs",
         "8",
     ]);
-    assert!(!out.status.success());
-    assert!(String::from_utf8_lossy(&out.stderr).contains("unknown dtype `f16`"));
+    assert!(err.contains("unknown dtype `f16`"), "{err}");
     // Every row is checked before any is measured: nothing is printed for the good dtype.
     let out = yokai(&[
         "bench",
@@ -122,8 +110,6 @@ fn bad_options_are_errors_that_say_what() {
         "{}",
         String::from_utf8_lossy(&out.stdout)
     );
-    let out = yokai(&["bench", "--envs", "8,0", "--seconds", "0.01"]);
-    assert!(!out.status.success());
-    assert!(String::from_utf8_lossy(&out.stderr)
+    assert!(yokai_err(&["bench", "--envs", "8,0", "--seconds", "0.01"])
         .contains("--envs: every number of games must be at least 1"));
 }

@@ -1,21 +1,17 @@
 //! `yokai eval` from the outside: determinism, outputs, clear errors.
 
 mod common;
-use common::yokai;
+use common::{yokai, yokai_err, yokai_ok};
 
 #[test]
 fn same_policies_and_seed_give_the_same_tables() {
     let args = [
         "eval", "greedy", "belief", "random", "--games", "200", "--seed", "3",
     ];
-    let a = yokai(&args);
+    let a = yokai_ok(&args);
     let b = yokai(&[&args[..], &["--threads", "1"]].concat());
-    assert!(a.status.success(), "{}", String::from_utf8_lossy(&a.stderr));
-    assert_eq!(
-        a.stdout, b.stdout,
-        "results must not depend on the thread count"
-    );
-    let text = String::from_utf8(a.stdout).unwrap();
+    assert_eq!(a, b.stdout, "results must not depend on the thread count");
+    let text = String::from_utf8(a).unwrap();
     assert!(text.contains("| greedy + belief |"));
     assert!(text.contains("| belief + random |"));
 }
@@ -23,7 +19,7 @@ fn same_policies_and_seed_give_the_same_tables() {
 #[test]
 fn outputs_land_in_the_directory() {
     let dir = std::env::temp_dir().join(format!("yokai-eval-{}", std::process::id()));
-    let out = yokai(&[
+    yokai_ok(&[
         "eval",
         "greedy",
         "random",
@@ -32,7 +28,6 @@ fn outputs_land_in_the_directory() {
         "--out",
         dir.to_str().unwrap(),
     ]);
-    assert!(out.status.success());
     let csv = std::fs::read_to_string(dir.join("matrix.csv")).unwrap();
     // Header plus three pairs: greedy+greedy, greedy+random, random+random.
     assert_eq!(csv.lines().count(), 4);
@@ -48,12 +43,8 @@ fn outputs_land_in_the_directory() {
 
 #[test]
 fn bad_policies_are_clear_errors() {
-    let out = yokai(&["eval", "grandmaster"]);
-    assert!(!out.status.success());
-    assert!(String::from_utf8_lossy(&out.stderr).contains("unknown policy `grandmaster`"));
-    let out = yokai(&["eval", "Cargo.toml"]);
-    assert!(!out.status.success());
-    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(yokai_err(&["eval", "grandmaster"]).contains("unknown policy `grandmaster`"));
+    let err = yokai_err(&["eval", "Cargo.toml"]);
     assert!(
         err.contains("Cargo.toml is not a Yōkai checkpoint or policy file"),
         "{err}"

@@ -1,7 +1,7 @@
 //! `yokai play`, `yokai replay` and `yokai train` from the outside.
 
 mod common;
-use common::yokai;
+use common::{yokai, yokai_err, yokai_ok};
 
 use std::io::Write;
 use std::path::PathBuf;
@@ -96,9 +96,9 @@ fn scripted_line_mode_game_finishes_and_saves_a_replay_that_renders() {
         );
     }
     // Text mode prints every state.
-    let out = yokai(&["replay", save.to_str().unwrap(), "--seat", "1"]);
-    assert!(out.status.success());
-    assert_eq!(text(&out).matches("── 9c-2p-perfect").count(), steps + 1);
+    let out =
+        String::from_utf8(yokai_ok(&["replay", save.to_str().unwrap(), "--seat", "1"])).unwrap();
+    assert_eq!(out.matches("── 9c-2p-perfect").count(), steps + 1);
 }
 
 #[test]
@@ -106,14 +106,10 @@ fn input_that_ends_too_early_and_bad_seats_are_clear_errors() {
     let out = yokai_with_input(&["play", "--line", "--seats", "human,random"], "1\n");
     assert!(!out.status.success());
     assert!(text(&out).contains("input ended before the game finished"));
-    let out = yokai(&["play", "--line", "--seats", "human,wizard"]);
-    assert!(
-        text(&out).contains("unknown policy `wizard`"),
-        "{}",
-        text(&out)
-    );
-    let out = yokai(&["play", "--line", "--seats", "human,human,human"]);
-    assert!(text(&out).contains("3 seats given"), "{}", text(&out));
+    let err = yokai_err(&["play", "--line", "--seats", "human,wizard"]);
+    assert!(err.contains("unknown policy `wizard`"), "{err}");
+    let err = yokai_err(&["play", "--line", "--seats", "human,human,human"]);
+    assert!(err.contains("3 seats given"), "{err}");
 }
 
 #[test]
@@ -121,10 +117,8 @@ fn a_broken_replay_names_the_file_and_line() {
     let dir = tempdir("broken");
     let path = dir.join("bad.jsonl");
     std::fs::write(&path, "{\"type\":\"step\"}\n").unwrap();
-    let out = yokai(&["replay", path.to_str().unwrap()]);
-    assert!(!out.status.success());
-    let t = text(&out);
-    assert!(t.contains("bad.jsonl") && t.contains("line 1"), "{t}");
+    let err = yokai_err(&["replay", path.to_str().unwrap()]);
+    assert!(err.contains("bad.jsonl") && err.contains("line 1"), "{err}");
 }
 
 #[test]

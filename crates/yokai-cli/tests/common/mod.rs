@@ -9,3 +9,22 @@ pub fn yokai(args: &[&str]) -> Output {
         .output()
         .expect("runs")
 }
+
+/// Run `yokai` with `args`, which must succeed (the panic shows its stderr), and return its
+/// standard output.
+pub fn yokai_ok(args: &[&str]) -> Vec<u8> {
+    let out = yokai(args);
+    assert!(
+        out.status.success(),
+        "yokai {args:?} failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out.stdout
+}
+
+/// Run `yokai` with `args`, which must fail, and return its standard error.
+pub fn yokai_err(args: &[&str]) -> String {
+    let out = yokai(args);
+    assert!(!out.status.success(), "yokai {args:?} succeeded");
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
