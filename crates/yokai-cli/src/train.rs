@@ -58,6 +58,10 @@ pub struct Args {
     /// Worker threads (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
+    /// Where the network trains: `cpu` (always built), `vulkan` or `cuda` (GPU; built with
+    /// `--features vulkan` / `--features cuda`). The environment steps on the CPU either way.
+    #[arg(long, default_value = "cpu")]
+    device: yokai_train::Backend,
 }
 
 /// Parse `0..3`, `0,4,7` or `5`.
@@ -116,9 +120,10 @@ pub fn run(args: Args) -> Result<(), String> {
         .map_err(|e| format!("could not start threads: {e}"))?;
     let game = config.game_config().map_err(|e| e.to_string())?;
     eprintln!(
-        "training {name} ({} on {game}, {} network) for seeds {:?} into {}",
+        "training {name} ({} on {game}, {} network, on {}) for seeds {:?} into {}",
         config.algorithm.name,
         format!("{:?}", config.network.preset).to_lowercase(),
+        args.device,
         seeds,
         out.display()
     );
@@ -151,6 +156,7 @@ pub fn run(args: Args) -> Result<(), String> {
                     dir: &dir,
                     resume: args.resume,
                     max_updates: args.max_updates,
+                    backend: args.device,
                 };
                 train_run(&request, &mut |s, _| {
                     bar.set_position(s.update);

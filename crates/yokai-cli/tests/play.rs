@@ -227,3 +227,41 @@ fn train_then_eval_a_run_directory() {
     let out = yokai(&[&args[..], &["--resume"]].concat());
     assert!(out.status.success(), "{}", text(&out));
 }
+
+#[test]
+fn train_device_errors_name_the_device_and_leave_no_run() {
+    let dir = tempdir("train-device");
+    let out = dir.join("runs");
+    let e = yokai_err(&[
+        "train",
+        "quick",
+        "--device",
+        "tpu",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(
+        e.contains("unknown device `tpu`") && e.contains("cpu, vulkan or cuda"),
+        "{e}"
+    );
+    // This test binary is built without GPU features: asking for one says how to build it
+    // (with a GPU feature but no GPU, the error says what the runtime lacks instead).
+    if !cfg!(feature = "vulkan") {
+        let e = yokai_err(&[
+            "train",
+            "quick",
+            "--device",
+            "vulkan",
+            "--seeds",
+            "0",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(e.contains("--features vulkan"), "{e}");
+    }
+    if !cfg!(feature = "cuda") {
+        let e = yokai_err(&["train", "quick", "--device", "cuda", "--seeds", "0"]);
+        assert!(e.contains("not built into this binary"), "{e}");
+    }
+    assert!(!out.join("seed-0").join("checkpoint.ykc").exists());
+}

@@ -1,8 +1,10 @@
 //! Recurrent actor-critics and PPO training for the Yōkai Learning Environment, on burn.
 //!
-//! The default backend is burn's pure-Rust `flex` CPU backend; the `cuda` feature switches
-//! to burn's CUDA backend, so the same code trains on a GPU.
+//! The default backend is burn's pure-Rust `flex` CPU backend. The `vulkan` (and, where its
+//! build can download LLVM, `cuda`) feature adds a GPU backend, chosen at run time with
+//! [`Backend`], so the same code trains on a GPU.
 
+pub mod backend;
 pub mod config;
 pub mod distribution;
 pub mod file;
@@ -11,6 +13,7 @@ pub mod init;
 pub mod network;
 pub mod trainer;
 
+pub use backend::{Backend, BackendError};
 pub use config::{NetworkPreset, SymmetrySet, TrainConfig, TrainConfigError};
 pub use file::{Container, FileError};
 pub use network::{ActorCritic, CnnEncoder, Encoder, GruCell, Memory, MlpEncoder};

@@ -9,6 +9,7 @@
 //! RUN/replays/         at every checkpoint, the last finished training game of env 0
 //! ```
 
+use crate::backend::Backend;
 use crate::config::{NetworkPreset, TrainConfig};
 use crate::network::{CnnEncoder, Encoder, MlpEncoder};
 use crate::trainer::{TrainError, Trainer, UpdateStats};
@@ -55,6 +56,8 @@ pub struct RunRequest<'a> {
     /// Stop after this many updates of this call (the run can be resumed later); `None`
     /// runs to the end of the config's budget.
     pub max_updates: Option<u64>,
+    /// Where the network trains (the environment always steps on the CPU).
+    pub backend: Backend,
 }
 
 /// Start or continue the run described by `request`. `on_update` sees every update (for
@@ -90,12 +93,14 @@ fn run<E: Encoder>(
         dir,
         resume,
         max_updates,
+        backend,
     } = *request;
+    let device = backend.device()?;
     let start = std::time::Instant::now();
     let checkpoint = dir.join(CHECKPOINT);
     let metrics_path = dir.join(METRICS);
     let mut trainer = if resume {
-        let mut t = Trainer::<E>::resume(&checkpoint)?;
+        let mut t = Trainer::<E>::resume_on(&checkpoint, device)?;
         t.set_total_steps(config.ppo.total_steps);
         truncate_metrics(&metrics_path, t.update_count())?;
         t
@@ -108,7 +113,7 @@ fn run<E: Encoder>(
             });
         }
         std::fs::create_dir_all(dir).map_err(|e| io(dir, e))?;
-        let t = Trainer::<E>::new(config.clone(), seed)?;
+        let t = Trainer::<E>::new_on(config.clone(), seed, device)?;
         let game = t.config().game_config()?;
         write(&dir.join("config.toml"), &t.config().to_toml())?;
         write(&dir.join("game.toml"), &game.to_toml())?;

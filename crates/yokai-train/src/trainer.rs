@@ -38,6 +38,8 @@ pub enum TrainError {
     Config(#[from] crate::config::TrainConfigError),
     #[error(transparent)]
     File(#[from] FileError),
+    #[error(transparent)]
+    Backend(#[from] crate::backend::BackendError),
     #[error("environment: {0}")]
     Env(#[from] VecError),
     #[error("{path}: {message}")]
@@ -133,16 +135,11 @@ pub struct Trainer<E: Encoder, M: Memory = GruCell> {
     last_game: Option<(u64, Vec<u32>)>,
 }
 
-/// The device training runs on: burn's CUDA backend with the `cuda` feature, else `flex`.
+/// The device of inference outside training (evaluation, play, Python): burn's `flex` CPU
+/// backend, whatever GPU features are built in. Training picks its device with
+/// [`Trainer::new_on`] ([`crate::Backend`]).
 pub fn default_device() -> Device {
-    #[cfg(feature = "cuda")]
-    {
-        Device::cuda(0)
-    }
-    #[cfg(not(feature = "cuda"))]
-    {
-        Device::flex()
-    }
+    Device::flex()
 }
 
 /// The seed of a run's batch of games.
@@ -173,11 +170,20 @@ fn to_vec<const D: usize>(t: Tensor<D>) -> Vec<f32> {
 }
 
 impl<E: Encoder, M: Memory> Trainer<E, M> {
-    /// A new run of `config` with `seed`, from freshly initialised weights.
+    /// A new run of `config` with `seed`, from freshly initialised weights, on the CPU.
     pub fn new(config: TrainConfig, seed: u64) -> Result<Trainer<E, M>, TrainError> {
+        Trainer::new_on(config, seed, default_device())
+    }
+
+    /// A new run of `config` with `seed` whose network lives on `infer_device` (a device
+    /// from [`crate::Backend::device`]; training uses its autodiff twin).
+    pub fn new_on(
+        config: TrainConfig,
+        seed: u64,
+        infer_device: Device,
+    ) -> Result<Trainer<E, M>, TrainError> {
         config.validate("config")?;
         let game = config.game_config()?;
-        let infer_device = default_device();
         let device = infer_device.clone().autodiff();
         let model = ActorCritic::<E, M>::new(&config, &game, derive_seed(seed, 0xC0FFEE), &device);
         let n = config.ppo.num_envs;
@@ -678,8 +684,14 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
         }
     }
 
-    /// Continue a run from a checkpoint written by [`Trainer::checkpoint`].
+    /// Continue a run from a checkpoint written by [`Trainer::checkpoint`], on the CPU.
     pub fn resume(path: &Path) -> Result<Trainer<E, M>, TrainError> {
+        Trainer::resume_on(path, default_device())
+    }
+
+    /// Continue a run from a checkpoint on `infer_device` (any backend: checkpoints hold
+    /// plain f32 values, so a run can move between the CPU and a GPU).
+    pub fn resume_on(path: &Path, infer_device: Device) -> Result<Trainer<E, M>, TrainError> {
         let file = Container::read(path)?;
         let header = read_header(&file, path)?;
         if header.kind != "checkpoint" {
@@ -698,7 +710,7 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
                 message: format!("holds a {:?} network", config.network.preset),
             });
         }
-        let mut trainer = Trainer::<E, M>::new(config, header.seed)?;
+        let mut trainer = Trainer::<E, M>::new_on(config, header.seed, infer_device)?;
         let shown = path.display().to_string();
         trainer.model = load_model(trainer.model, file.section(path, "model")?, &shown)?;
         let optim = file.section(path, "optimizer")?.to_vec();

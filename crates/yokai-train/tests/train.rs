@@ -168,6 +168,7 @@ fn a_run_directory_holds_config_metrics_checkpoint_and_a_playable_policy() {
         dir: &dir,
         resume,
         max_updates,
+        backend: yokai_train::Backend::Cpu,
     };
     let mut seen = Vec::new();
     let summary = train_run(&request(&config, false, Some(2)), &mut |s, total| {

@@ -1,0 +1,196 @@
+//! Where the network's tensors live: the CPU (burn's pure-Rust `flex`), or a GPU through
+//! burn's Vulkan (`vulkan` feature) or CUDA (`cuda` feature) runtime.
+//!
+//! The choice is made at run time (`yokai train --device`), so one binary built with a GPU
+//! feature still trains on the CPU, and the training code is the same for every backend:
+//! only the [`Device`] differs. The environment always steps on the CPU.
+//!
+//! Why Vulkan is the GPU route that builds here: burn 0.22's CUDA runtime (`cubecl-cuda`
+//! 0.11) depends on `cubecl-llvm`, whose build script downloads an LLVM bundle, and this
+//! workplace reaches only package registries. The Vulkan runtime (`cubecl-wgpu` with
+//! SPIR-V) builds from crates alone and needs only a Vulkan loader and the GPU's driver at
+//! run time (`docs/training.md`).
+
+use burn::prelude::*;
+use std::fmt;
+use std::str::FromStr;
+
+/// A compute backend for training and inference.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Backend {
+    /// burn's `flex` CPU backend (always built).
+    #[default]
+    Cpu,
+    /// burn's Vulkan runtime (SPIR-V kernels); needs the `vulkan` cargo feature.
+    Vulkan,
+    /// burn's CUDA runtime; needs the `cuda` cargo feature.
+    Cuda,
+}
+
+/// Why a backend cannot be used.
+#[derive(Debug, thiserror::Error, PartialEq, Eq)]
+pub enum BackendError {
+    #[error("unknown device `{0}`: expected cpu, vulkan or cuda")]
+    Unknown(String),
+    #[error(
+        "device `{backend}` is not built into this binary: rebuild with \
+         `cargo build --release -p yokai-cli --features {backend}` (built-in devices: {built})"
+    )]
+    NotBuilt { backend: Backend, built: String },
+    #[error("device `{backend}` could not start: {message}")]
+    Unavailable { backend: Backend, message: String },
+}
+
+impl Backend {
+    pub const ALL: [Backend; 3] = [Backend::Cpu, Backend::Vulkan, Backend::Cuda];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Backend::Cpu => "cpu",
+            Backend::Vulkan => "vulkan",
+            Backend::Cuda => "cuda",
+        }
+    }
+
+    /// Whether this binary was built with the backend's cargo feature.
+    pub fn is_built(self) -> bool {
+        match self {
+            Backend::Cpu => true,
+            Backend::Vulkan => cfg!(feature = "vulkan"),
+            Backend::Cuda => cfg!(feature = "cuda"),
+        }
+    }
+
+    /// The backends built into this binary, by name.
+    pub fn built() -> Vec<&'static str> {
+        Backend::ALL
+            .iter()
+            .filter(|b| b.is_built())
+            .map(|b| b.name())
+            .collect()
+    }
+
+    /// The backend's (inference) device, without checking that a GPU answers.
+    fn raw_device(self) -> Result<Device, BackendError> {
+        if !self.is_built() {
+            return Err(BackendError::NotBuilt {
+                backend: self,
+                built: Backend::built().join(", "),
+            });
+        }
+        match self {
+            Backend::Cpu => Ok(Device::flex()),
+            #[cfg(feature = "vulkan")]
+            Backend::Vulkan => Ok(Device::vulkan(burn::tensor::DeviceKind::DiscreteGpu(0))),
+            #[cfg(feature = "cuda")]
+            Backend::Cuda => Ok(Device::cuda(0)),
+            #[allow(unreachable_patterns)]
+            _ => unreachable!("is_built checked the feature"),
+        }
+    }
+
+    /// The backend's device, checked by a small computation on it. burn panics when a GPU
+    /// runtime finds no driver or adapter; that panic is caught here and returned as an
+    /// error that says what is missing, so that `yokai train --device vulkan` on a machine
+    /// without a GPU fails with a sentence, not a backtrace.
+    pub fn device(self) -> Result<Device, BackendError> {
+        let device = self.raw_device()?;
+        if self == Backend::Cpu {
+            return Ok(device);
+        }
+        let probe = device.clone();
+        // The runtime's own panic is often raised on its server thread, and the probe then
+        // sees only a closed channel: record what every thread says while probing.
+        let said = std::sync::Arc::new(std::sync::Mutex::new(Vec::<String>::new()));
+        let hook = std::panic::take_hook();
+        let record = said.clone();
+        std::panic::set_hook(Box::new(move |info| {
+            let text = info
+                .payload()
+                .downcast_ref::<String>()
+                .cloned()
+                .or_else(|| info.payload().downcast_ref::<&str>().map(|s| s.to_string()))
+                .unwrap_or_else(|| "the runtime panicked".into());
+            if let Ok(mut said) = record.lock() {
+                said.push(text);
+            }
+        }));
+        let answer = std::panic::catch_unwind(move || {
+            let t = Tensor::<1>::from_floats([1.0, 2.0, 3.0], &probe);
+            (t.clone() * t).sum().into_scalar::<f32>()
+        });
+        std::panic::set_hook(hook);
+        match answer {
+            Ok(v) if (v - 14.0).abs() < 1e-4 => Ok(device),
+            Ok(v) => Err(BackendError::Unavailable {
+                backend: self,
+                message: format!("a test sum gave {v}, not 14"),
+            }),
+            Err(_) => {
+                let said = said.lock().map(|s| s.join("; ")).unwrap_or_default();
+                Err(BackendError::Unavailable {
+                    backend: self,
+                    message: format!("{said} ({})", self.requirement()),
+                })
+            }
+        }
+    }
+
+    /// What the backend needs on the machine at run time.
+    fn requirement(self) -> &'static str {
+        match self {
+            Backend::Cpu => "nothing",
+            Backend::Vulkan => {
+                "needs a Vulkan loader (libvulkan.so.1) and the GPU driver's Vulkan ICD; \
+                 set VK_DRIVER_FILES to the driver's ICD json if the loader does not find it"
+            }
+            Backend::Cuda => "needs the NVIDIA driver, libnvrtc and the CUDA headers",
+        }
+    }
+}
+
+impl fmt::Display for Backend {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for Backend {
+    type Err = BackendError;
+    fn from_str(s: &str) -> Result<Backend, BackendError> {
+        match s.to_ascii_lowercase().as_str() {
+            "cpu" | "flex" => Ok(Backend::Cpu),
+            "vulkan" | "gpu" => Ok(Backend::Vulkan),
+            "cuda" => Ok(Backend::Cuda),
+            _ => Err(BackendError::Unknown(s.to_string())),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_round_trip_and_unknown_names_are_errors() {
+        for b in Backend::ALL {
+            assert_eq!(b.name().parse::<Backend>(), Ok(b));
+        }
+        assert_eq!("GPU".parse::<Backend>(), Ok(Backend::Vulkan));
+        let e = "tpu".parse::<Backend>().unwrap_err().to_string();
+        assert!(
+            e.contains("`tpu`") && e.contains("cpu, vulkan or cuda"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn a_backend_not_built_in_names_the_feature_to_build_it_with() {
+        for b in Backend::ALL.into_iter().filter(|b| !b.is_built()) {
+            let e = b.device().unwrap_err().to_string();
+            assert!(e.contains(&format!("--features {}", b.name())), "{e}");
+            assert!(e.contains("cpu"), "{e}");
+        }
+        assert!(Backend::Cpu.device().is_ok());
+    }
+}
