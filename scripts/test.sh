@@ -7,6 +7,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 cargo fmt --all -- --check
 cargo clippy --workspace --all-targets --release -- -D warnings
+# The GPU build (burn's Vulkan runtime) is compiled, not run: CI has no GPU, and this keeps
+# `--features vulkan` from rotting (docs/training.md, "Training on a GPU").
+cargo clippy -p yokai-cli --features vulkan --release -- -D warnings
 cargo test --workspace --release
 
 # Python: a fresh machine needs nothing but python3 (with venv) and the Rust toolchain.
@@ -15,4 +18,7 @@ if [ ! -x .venv/bin/python ]; then
 fi
 .venv/bin/python -m pip install --quiet --upgrade pip
 .venv/bin/python -m pip install --quiet "./python[test]"
+# PyTorch for the test of python/examples/ppo_torch.py (PyPI's Linux wheel is the CUDA
+# build: about 1.5 min and 5 GB the first time; it runs on the CPU without a GPU).
+.venv/bin/python -m pip install --quiet torch
 .venv/bin/python -m pytest -q python/tests
