@@ -1,0 +1,206 @@
+//! Checkpoints and policy files of a run: the header, the network, the optimiser and the
+//! loop state, and continuing a run exactly from a checkpoint.
+
+use super::{default_device, optimizer, to_vec, TrainError, Trainer};
+use crate::config::TrainConfig;
+use crate::file::Container;
+use crate::network::{Encoder, Memory};
+use burn::module::{Module, ModuleVisitor, Param};
+use burn::prelude::*;
+use burn::store::ModuleRecord;
+use burn::tensor::Bytes;
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// What the header of a checkpoint or policy file says.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct FileHeader {
+    /// `checkpoint` or `policy`.
+    pub kind: String,
+    /// The resolved training config (TOML).
+    pub train_config: String,
+    /// The resolved game config (TOML), so a policy knows the game it was trained for.
+    pub game: String,
+    pub seed: u64,
+    pub update: u64,
+    pub env_steps: u64,
+}
+
+/// The loop state a checkpoint saves beside the network and optimiser. Everything else is
+/// derived: environment steps from the update count, each game's episode index from the
+/// environment (filled in only when saving), and where episodes start from the games.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub(super) struct LoopState {
+    pub update: u64,
+    /// GRU state per row `[rows × H]`.
+    pub hidden: Vec<f32>,
+    /// Per game: the acting seats' actions so far in its current episode.
+    pub history: Vec<Vec<u32>>,
+    /// Per game: its episode index (written to checkpoints; the environment keeps it live).
+    #[serde(default)]
+    pub episodes: Vec<u64>,
+}
+
+impl<E: Encoder, M: Memory> Trainer<E, M> {
+    fn header(&self, kind: &str) -> FileHeader {
+        FileHeader {
+            kind: kind.into(),
+            train_config: self.config.to_toml(),
+            game: self.game.to_toml(),
+            seed: self.seed,
+            update: self.state.update,
+            env_steps: self.env_steps(),
+        }
+    }
+
+    /// Every parameter value of the network, in module order (records also hold random
+    /// parameter ids, so compare these, not record bytes).
+    pub fn parameters(&self) -> Vec<f32> {
+        parameters(&self.model)
+    }
+
+    /// The network's parameters in burn's record format.
+    pub fn model_bytes(&self) -> Vec<u8> {
+        self.model
+            .clone()
+            .into_record()
+            .into_bytes()
+            .expect("an in-memory record always serialises")
+            .to_vec()
+    }
+
+    /// The policy file's content: header and network, no optimiser or loop state.
+    pub fn policy(&self) -> Container {
+        Container {
+            header: serde_json::to_string_pretty(&self.header("policy")).expect("json"),
+            sections: vec![("model".into(), self.model_bytes())],
+        }
+    }
+
+    /// Everything needed to continue the run exactly.
+    pub fn checkpoint(&self) -> Container {
+        let optim = self
+            .optim
+            .into_bytes()
+            .expect("an in-memory optimiser state always serialises")
+            .to_vec();
+        Container {
+            header: serde_json::to_string_pretty(&self.header("checkpoint")).expect("json"),
+            sections: vec![
+                ("model".into(), self.model_bytes()),
+                ("optimizer".into(), optim),
+                (
+                    "state".into(),
+                    serde_json::to_vec(&LoopState {
+                        episodes: (0..self.config.ppo.num_envs)
+                            .map(|i| self.env.episodes(i))
+                            .collect(),
+                        ..self.state.clone()
+                    })
+                    .expect("loop state serialises"),
+                ),
+            ],
+        }
+    }
+
+    /// Continue a run from a checkpoint written by [`Trainer::checkpoint`], on the CPU.
+    pub fn resume(path: &Path) -> Result<Trainer<E, M>, TrainError> {
+        Trainer::resume_on(path, default_device())
+    }
+
+    /// Continue a run from a checkpoint on `infer_device` (any backend: checkpoints hold
+    /// plain f32 values, so a run can move between the CPU and a GPU).
+    pub fn resume_on(path: &Path, infer_device: Device) -> Result<Trainer<E, M>, TrainError> {
+        let file = Container::read(path)?;
+        let header = read_header(&file, path)?;
+        if header.kind != "checkpoint" {
+            return Err(TrainError::Mismatch {
+                path: path.display().to_string(),
+                message: format!(
+                    "is a {} file, not a checkpoint (only checkpoints keep the optimiser state)",
+                    header.kind
+                ),
+            });
+        }
+        let config = TrainConfig::from_toml_str(&header.train_config, &path.display().to_string())?;
+        if config.network.preset != E::PRESET {
+            return Err(TrainError::Mismatch {
+                path: path.display().to_string(),
+                message: format!("holds a {:?} network", config.network.preset),
+            });
+        }
+        let mut trainer = Trainer::<E, M>::new_on(config, header.seed, infer_device)?;
+        let shown = path.display().to_string();
+        trainer.model = load_model(trainer.model, file.section(path, "model")?, &shown)?;
+        let optim = file.section(path, "optimizer")?.to_vec();
+        trainer.optim = optimizer(&trainer.config)
+            .from_bytes(Bytes::from_bytes_vec(optim))
+            .map_err(|e| TrainError::Record {
+                path: shown.clone(),
+                message: format!("optimizer: {e}"),
+            })?;
+        let state: LoopState =
+            serde_json::from_slice(file.section(path, "state")?).map_err(|e| {
+                TrainError::Mismatch {
+                    path: shown.clone(),
+                    message: format!("loop state: {e}"),
+                }
+            })?;
+        let n = trainer.config.ppo.num_envs;
+        if state.hidden.len() != trainer.state.hidden.len()
+            || state.episodes.len() != n
+            || state.history.len() != n
+        {
+            return Err(TrainError::Mismatch {
+                path: shown,
+                message: "loop state sizes do not match its config".into(),
+            });
+        }
+        for i in 0..n {
+            trainer
+                .env
+                .restore(i, state.episodes[i], &state.history[i])?;
+        }
+        trainer.state = state;
+        for i in 0..n {
+            trainer.draw_symmetries(i);
+        }
+        Ok(trainer)
+    }
+}
+
+pub(crate) fn read_header(file: &Container, path: &Path) -> Result<FileHeader, TrainError> {
+    serde_json::from_str(&file.header).map_err(|e| TrainError::Mismatch {
+        path: path.display().to_string(),
+        message: format!("unreadable header: {e}"),
+    })
+}
+
+/// Load network weights, refusing any record whose tensors do not match the network.
+pub(crate) fn load_model<M: Module>(model: M, bytes: &[u8], path: &str) -> Result<M, TrainError> {
+    let record = ModuleRecord::from_bytes(Bytes::from_bytes_vec(bytes.to_vec())).map_err(|e| {
+        TrainError::Record {
+            path: path.to_string(),
+            message: e.to_string(),
+        }
+    })?;
+    model
+        .try_load_record(record)
+        .map_err(|e| TrainError::Record {
+            path: path.to_string(),
+            message: e.to_string(),
+        })
+}
+
+/// Every float parameter of a module, flattened in visiting order.
+pub fn parameters<M: Module>(model: &M) -> Vec<f32> {
+    struct Collect(Vec<f32>);
+    impl ModuleVisitor for Collect {
+        fn visit_float<const D: usize>(&mut self, param: &Param<Tensor<D>>) {
+            self.0.extend(to_vec(param.val()));
+        }
+    }
+    let mut c = Collect(Vec::new());
+    model.visit(&mut c);
+    c.0
+}

@@ -1,0 +1,194 @@
+//! Learning: the PPO epochs over a rollout, each minibatch a set of whole row sequences
+//! replayed from the state stored at the rollout's start; the clipped policy and value
+//! losses, the entropy bonus, the global gradient-norm clip and the Adam step.
+
+use super::rollout::Rollout;
+use super::{tensor1, tensor2, Trainer};
+use crate::distribution::{chosen_log_prob, entropy, masked_log_softmax};
+use crate::network::{Encoder, Memory};
+use burn::module::{Module, ModuleMapper, ModuleVisitor, Param};
+use burn::optim::GradientsParams;
+use burn::prelude::*;
+use burn::tensor::TensorData;
+use rand_chacha::rand_core::Rng;
+use rand_chacha::ChaCha8Rng;
+
+/// What the epochs of one update report.
+pub(super) struct Losses {
+    pub policy: f64,
+    pub value: f64,
+    /// Mean |log π_new − log π_old| of the first minibatch before any step (see
+    /// `UpdateStats::replay_error`).
+    pub replay_error: f64,
+}
+
+impl<E: Encoder, M: Memory> Trainer<E, M> {
+    /// `epochs` passes over the rollout in `minibatches` shuffled sets of whole rows.
+    pub(super) fn learn_epochs(&mut self, ro: &Rollout, lr: f64, rng: &mut ChaCha8Rng) -> Losses {
+        let c = self.config.ppo.clone();
+        let rows = self.rows;
+        let mb = rows / c.minibatches;
+        let (mut pl_sum, mut vl_sum, mut count) = (0f64, 0f64, 0u64);
+        let mut replay_error = 0.0;
+        let mut order: Vec<usize> = (0..rows).collect();
+        for _ in 0..c.epochs {
+            for i in (1..rows).rev() {
+                let j = (rng.next_u64() % (i as u64 + 1)) as usize;
+                order.swap(i, j);
+            }
+            for k in 0..c.minibatches {
+                let end = if k + 1 == c.minibatches {
+                    rows
+                } else {
+                    (k + 1) * mb
+                };
+                let batch = &order[k * mb..end];
+                let (pl, vl, err) = self.learn(batch, ro, lr);
+                if count == 0 {
+                    replay_error = err;
+                }
+                pl_sum += pl;
+                vl_sum += vl;
+                count += 1;
+            }
+        }
+        Losses {
+            policy: pl_sum / count as f64,
+            value: vl_sum / count as f64,
+            replay_error,
+        }
+    }
+
+    /// One gradient step on the rows `batch` of the rollout; returns the policy and value
+    /// losses and the mean |Δ log π| against the rollout before the step.
+    fn learn(&mut self, batch: &[usize], ro: &Rollout, lr: f64) -> (f64, f64, f64) {
+        let c = &self.config.ppo;
+        let (rows, l, na) = (self.rows, self.obs_len, self.n_actions);
+        let hsz = self.model.hidden_size();
+        let t_len = c.rollout_steps;
+        let bm = batch.len();
+        let mut obs = Vec::with_capacity(bm * t_len * l);
+        let mut keep = Vec::with_capacity(bm * t_len);
+        let mut old_v = Vec::with_capacity(bm * t_len);
+        let mut ret = Vec::with_capacity(bm * t_len);
+        let mut h0 = Vec::with_capacity(bm * hsz);
+        // Rows with one legal action (seats waiting for their turn, or a forced NOOP) carry
+        // no policy gradient: the actor head, the policy loss and the entropy skip them, so
+        // their masks and one-hot actions are not even gathered.
+        let mut choosing: Vec<i64> = Vec::new();
+        let mut masks = Vec::new();
+        let mut one_hot = Vec::new();
+        let mut old_logp = Vec::new();
+        let mut adv = Vec::new();
+        for (j, &r) in batch.iter().enumerate() {
+            h0.extend_from_slice(&ro.h0[r * hsz..][..hsz]);
+            for t in 0..t_len {
+                let i = t * rows + r;
+                obs.extend_from_slice(&ro.obs[i * l..][..l]);
+                keep.push(ro.keeps[i]);
+                old_v.push(ro.values[i]);
+                ret.push(ro.returns[i]);
+                if ro.chooses[i] {
+                    choosing.push((j * t_len + t) as i64);
+                    masks.extend_from_slice(&ro.masks[i * na..][..na]);
+                    let at = one_hot.len();
+                    one_hot.resize(at + na, 0.0);
+                    one_hot[at + ro.actions[i]] = 1.0;
+                    old_logp.push(ro.logps[i]);
+                    adv.push(ro.adv[i]);
+                }
+            }
+        }
+        if c.normalize_advantages && adv.len() > 1 {
+            let mean = adv.iter().sum::<f32>() / adv.len() as f32;
+            let var = adv.iter().map(|a| (a - mean).powi(2)).sum::<f32>() / adv.len() as f32;
+            let sd = var.sqrt() + 1e-8;
+            adv.iter_mut().for_each(|a| *a = (*a - mean) / sd);
+        }
+        let d = &self.device;
+        let obs: Tensor<3> = Tensor::from_data(TensorData::new(obs, [bm, t_len, l]), d);
+        let states = self.model.unroll(
+            obs,
+            tensor2(h0, [bm, hsz], d),
+            tensor2(keep, [bm, t_len], d),
+        );
+        let old_v = tensor1(old_v, d);
+        let ret = tensor1(ret, d);
+        let v = self.model.values(states.clone());
+        let v_clipped = old_v.clone() + (v.clone() - old_v).clamp(-c.value_clip, c.value_clip);
+        let value_loss = (v - ret.clone())
+            .square()
+            .max_pair((v_clipped - ret).square())
+            .mean()
+            * 0.5;
+        let n = choosing.len();
+        let (policy_loss, ent, replay_error) = if n == 0 {
+            let zero = Tensor::<1>::zeros([1], d).sum();
+            (zero.clone(), zero, 0.0)
+        } else {
+            let idx = Tensor::<1, Int>::from_data(TensorData::new(choosing, [n]), d);
+            let logits = self.model.policy_logits(states.select(0, idx));
+            let mask = tensor2(masks, [n, na], d);
+            let log_probs = masked_log_softmax(logits, mask.clone());
+            let logp = chosen_log_prob(log_probs.clone(), tensor2(one_hot, [n, na], d));
+            let ent = entropy(log_probs, mask).mean();
+            let adv = tensor1(adv, d);
+            let delta = logp - tensor1(old_logp, d);
+            let replay_error = delta.clone().abs().mean().into_scalar::<f32>() as f64;
+            let ratio = delta.exp();
+            let clipped = ratio.clone().clamp(1.0 - c.clip, 1.0 + c.clip);
+            let policy_loss = (ratio * adv.clone()).min_pair(clipped * adv).mean().neg();
+            (policy_loss, ent, replay_error)
+        };
+        let loss = policy_loss.clone() + value_loss.clone() * c.value_coef - ent * c.entropy_coef;
+        let mut grads = GradientsParams::from_grads(loss.backward(), &self.model);
+        clip_global_norm(&self.model, &mut grads, c.max_grad_norm);
+        let model = self.model.clone();
+        self.model = self.optim.step(lr, model, grads);
+        (
+            policy_loss.into_scalar::<f32>() as f64,
+            value_loss.into_scalar::<f32>() as f64,
+            replay_error,
+        )
+    }
+}
+
+/// Scale all gradients together so that their global L2 norm is at most `max_norm`.
+fn clip_global_norm<M: Module>(model: &M, grads: &mut GradientsParams, max_norm: f32) {
+    struct Norm<'a> {
+        grads: &'a GradientsParams,
+        sum: f64,
+    }
+    impl ModuleVisitor for Norm<'_> {
+        fn visit_float<const D: usize>(&mut self, param: &Param<Tensor<D>>) {
+            if let Some(g) = self.grads.get::<D>(param.id) {
+                self.sum += g.square().sum().into_scalar::<f32>() as f64;
+            }
+        }
+    }
+    struct Scale<'a> {
+        grads: &'a mut GradientsParams,
+        factor: f32,
+    }
+    impl ModuleMapper for Scale<'_> {
+        fn map_float<const D: usize>(&mut self, param: Param<Tensor<D>>) -> Param<Tensor<D>> {
+            if let Some(g) = self.grads.remove::<D>(param.id) {
+                self.grads.register(param.id, g.mul_scalar(self.factor));
+            }
+            param
+        }
+    }
+    let mut norm = Norm {
+        grads: &*grads,
+        sum: 0.0,
+    };
+    model.visit(&mut norm);
+    let total = norm.sum.sqrt() as f32;
+    if total > max_norm {
+        let mut scale = Scale {
+            grads,
+            factor: max_norm / (total + 1e-6),
+        };
+        let _ = model.clone().map(&mut scale);
+    }
+}

@@ -1,0 +1,164 @@
+//! Acting: one rollout of `rollout_steps` steps in every game, with what learning needs
+//! (observations and masks as each seat saw them, actions, log-probabilities, values,
+//! episode starts) and the GAE advantages and returns.
+
+use super::{tensor2, to_vec, TrainError, Trainer};
+use crate::distribution::sample_row;
+use crate::gae::gae;
+use crate::network::{Encoder, Memory};
+use burn::module::Module;
+use rand_chacha::rand_core::Rng;
+use rand_chacha::ChaCha8Rng;
+use yokai_engine::MetricsAccumulator;
+use yokai_vec::episode_seed;
+
+/// One rollout, time-major (`[T, rows, …]`), as learning reads it.
+pub(super) struct Rollout {
+    pub obs: Vec<f32>,
+    pub masks: Vec<f32>,
+    pub actions: Vec<usize>,
+    pub logps: Vec<f32>,
+    pub values: Vec<f32>,
+    pub keeps: Vec<f32>,
+    /// Whether the row had more than one legal action at that step.
+    pub chooses: Vec<bool>,
+    pub adv: Vec<f32>,
+    pub returns: Vec<f32>,
+    /// Every row's recurrent state at the start of the rollout (`[rows × H]`).
+    pub h0: Vec<f32>,
+    /// The games that ended during the rollout.
+    pub games: MetricsAccumulator,
+    /// Mean entropy of the acting seats' policies.
+    pub entropy: f64,
+}
+
+impl<E: Encoder, M: Memory> Trainer<E, M> {
+    /// Play `rollout_steps` steps in every game with the current network, sampling from
+    /// `rng`; `shaping` weighs the shaping reward in the returns.
+    pub(super) fn collect(
+        &mut self,
+        shaping: f64,
+        rng: &mut ChaCha8Rng,
+    ) -> Result<Rollout, TrainError> {
+        let c = self.config.ppo.clone();
+        let (rows, l, na, hsz) = (
+            self.rows,
+            self.obs_len,
+            self.n_actions,
+            self.model.hidden_size(),
+        );
+        let t_len = c.rollout_steps;
+        let p = self.game.players();
+        let n = c.num_envs;
+        let mut obs = vec![0f32; t_len * rows * l];
+        let mut masks = vec![0f32; t_len * rows * na];
+        let mut actions = vec![0usize; t_len * rows];
+        let mut logps = vec![0f32; t_len * rows];
+        let mut values = vec![0f32; t_len * rows];
+        let mut rewards = vec![0f32; t_len * rows];
+        let mut dones = vec![0f32; t_len * rows];
+        let mut keeps = vec![0f32; t_len * rows];
+        let mut chooses = vec![false; t_len * rows];
+        let h0 = self.state.hidden.clone();
+        let net = self.model.valid();
+        let dev = self.infer_device.clone();
+        let mut joint = vec![0u32; rows];
+        let mut games = MetricsAccumulator::default();
+        let (mut ent_sum, mut ent_rows) = (0f64, 0u64);
+        for t in 0..t_len {
+            let (o, m) = (
+                &mut obs[t * rows * l..][..rows * l],
+                &mut masks[t * rows * na..][..rows * na],
+            );
+            self.view(o, m);
+            let keep = self.keeps();
+            keeps[t * rows..][..rows].copy_from_slice(&keep);
+            let (out, h) = net.step(
+                tensor2(o.to_vec(), [rows, l], &dev),
+                tensor2(self.state.hidden.clone(), [rows, hsz], &dev),
+                tensor2(keep, [rows, 1], &dev),
+            );
+            self.state.hidden = to_vec(h);
+            let logits = to_vec(out.logits);
+            values[t * rows..][..rows].copy_from_slice(&to_vec(out.values));
+            let acting = self.env.acting_seats().to_vec();
+            for r in 0..rows {
+                let u = (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+                let (a, lp, h) = sample_row(&logits[r * na..][..na], &m[r * na..][..na], u, false);
+                actions[t * rows + r] = a;
+                logps[t * rows + r] = lp;
+                chooses[t * rows + r] = m[r * na..][..na].iter().filter(|&&x| x > 0.5).count() > 1;
+                if acting[r / p] as usize == r % p {
+                    ent_sum += h as f64;
+                    ent_rows += 1;
+                }
+                joint[r] = self.to_true_action(r, a) as u32;
+            }
+            self.env.step_joint(&joint)?;
+            for i in 0..n {
+                let reward = self.env.rewards()[i] + shaping as f32 * self.env.shaping()[i];
+                let done = self.env.dones()[i] == 1;
+                for s in 0..p {
+                    rewards[t * rows + i * p + s] = reward;
+                    dones[t * rows + i * p + s] = done as u8 as f32;
+                }
+                if done {
+                    if let Some(o) = self.env.outcomes()[i] {
+                        games.add(&o);
+                    }
+                    if i == 0 {
+                        let mut actions = std::mem::take(&mut self.state.history[0]);
+                        actions.push(joint[acting[0] as usize]);
+                        // The environment has already moved on to the next episode.
+                        let finished = self.env.episodes(0) - 1;
+                        let seed = episode_seed(self.env_seed(), 0, finished);
+                        self.last_game = Some((seed, actions));
+                    }
+                    self.state.history[i].clear();
+                    self.draw_symmetries(i);
+                } else {
+                    let seat = acting[i] as usize;
+                    self.state.history[i].push(joint[i * p + seat]);
+                }
+            }
+        }
+        // Values of the observations after the last step bootstrap the returns; the state
+        // reached here is not kept, since the next rollout starts from these observations.
+        let mut last_obs = vec![0f32; rows * l];
+        let mut last_masks = vec![0f32; rows * na];
+        self.view(&mut last_obs, &mut last_masks);
+        let (last, _) = net.step(
+            tensor2(last_obs, [rows, l], &dev),
+            tensor2(self.state.hidden.clone(), [rows, hsz], &dev),
+            tensor2(self.keeps(), [rows, 1], &dev),
+        );
+        let last_values = to_vec(last.values);
+        let (adv, returns) = gae(
+            &rewards,
+            &values,
+            &dones,
+            &last_values,
+            c.gamma,
+            c.gae_lambda,
+        );
+
+        Ok(Rollout {
+            obs,
+            masks,
+            actions,
+            logps,
+            values,
+            keeps,
+            chooses,
+            adv,
+            returns,
+            h0,
+            games,
+            entropy: if ent_rows > 0 {
+                ent_sum / ent_rows as f64
+            } else {
+                0.0
+            },
+        })
+    }
+}
