@@ -17,10 +17,14 @@ mkdir -p "$out"
 for config in ippo-9c-2p ippo-16c-2p; do
     rm -rf "${out:?}/$config"
     echo "== $config on $device: $updates updates"
+    # Progress-bar frames are dropped; every other line (an error, a panic) is kept whole.
     timeout 280 "$bin" train "$config" --device "$device" --seeds 0 --max-updates "$updates" \
-        --eval-games 0 --out "$out/$config" 2>&1 | tr '\r' '\n' | grep -v '^\s*$' | tail -n 3
+        --eval-games 0 --out "$out/$config" 2>&1 | tr '\r' '\n' | grep -v -e '^\s*$' -e '^seed 0 \['
+    echo "exit status ${PIPESTATUS[0]} (124: stopped after 280 s)"
     python3 - "$out/$config/seed-0/metrics.jsonl" <<'PY'
-import json, sys
+import json, os, sys
+if not os.path.exists(sys.argv[1]):
+    sys.exit("no update finished")
 for line in open(sys.argv[1]):
     s = json.loads(line)
     print(f"update {s['update']}: {s['sps']:.0f} env steps/s end to end, "
