@@ -21,12 +21,16 @@ Run (defaults are the paper's IPPO hyper-parameters, TRAINING.md):
 
 The environment steps on the CPU (`--threads`, default all cores) and the network on
 `--device` (default: cuda if available). `--log` writes one JSON line per update.
+`--checkpoint PATH` saves the network, optimiser and update count after every update;
+`--resume` continues from it (with freshly dealt games), so a run longer than a job's time
+limit goes on across jobs with `--max-updates` per job.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import os
 import time
 import warnings
 from dataclasses import dataclass
@@ -67,8 +71,10 @@ class Args:
     device: str = "auto"
     bf16: bool = False  # autocast the network to bfloat16 on a GPU (TF32 is on regardless)
     threads: int = 0
-    max_updates: int = 0
+    max_updates: int = 0  # stop this call after so many updates (0: run to total_steps)
     log: str = ""
+    checkpoint: str = ""  # save network, optimiser and update count here after every update
+    resume: bool = False  # continue from --checkpoint (new games are dealt)
 
 
 def parse_args(argv=None) -> Args:
@@ -136,9 +142,19 @@ def main(argv=None) -> list[dict]:
     obs_shape = env.observation_shape
     net = ActorCritic(obs_shape, a_n, args.hidden, args.filters).to(device)
     optim = torch.optim.Adam(net.parameters(), lr=args.lr, eps=1e-5)
-    updates = max(1, args.total_steps // (n * t_n))
-    if args.max_updates:
-        updates = min(updates, args.max_updates)
+    updates = max(1, args.total_steps // (n * t_n))  # the whole run: annealing spans it
+    first = 1
+    if args.resume:
+        if not args.checkpoint:
+            raise SystemExit("--resume needs --checkpoint PATH")
+        state = torch.load(args.checkpoint, map_location=device)
+        net.load_state_dict(state["net"])
+        optim.load_state_dict(state["optim"])
+        first = state["update"] + 1
+        # The games restart: deal a fresh stream, a function of (seed, update).
+        env = yokai.VecEnv(args.config, num_envs=n, seed=yokai.episode_seed(args.seed, 0, first),
+                           obs="image-chw", dtype="float32", threads=args.threads or None)
+    last = updates if not args.max_updates else min(updates, first - 1 + args.max_updates)
 
     # Rollout storage, on the device: `[T, rows, ...]`.
     obs_buf = torch.zeros((t_n, rows, *obs_shape), device=device)
@@ -154,8 +170,8 @@ def main(argv=None) -> list[dict]:
     hidden = torch.zeros((rows, args.hidden), device=device)
     starts = torch.ones(rows, device=device)
     seat_ids = torch.arange(p, device=device).repeat(n)
-    log, steps = [], 0
-    for update in range(1, updates + 1):
+    log, steps = [], (first - 1) * n * t_n
+    for update in range(first, last + 1):
         t0 = time.perf_counter()
         frac = 1.0 - (update - 1) / updates
         if args.anneal_lr:
@@ -252,12 +268,17 @@ def main(argv=None) -> list[dict]:
             "policy_loss": pg.item(),
             "value_loss": v_loss.item(),
             "entropy": ent.item(),
+            "lr": optim.param_groups[0]["lr"],
         }
         log.append(line)
         print(json.dumps(line), flush=True)
         if args.log:
             with open(args.log, "a") as f:
                 f.write(json.dumps(line) + "\n")
+        if args.checkpoint:
+            state = {"net": net.state_dict(), "optim": optim.state_dict(), "update": update}
+            torch.save(state, args.checkpoint + ".tmp")
+            os.replace(args.checkpoint + ".tmp", args.checkpoint)  # a crash keeps the last one
     return log
 
 

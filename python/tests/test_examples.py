@@ -53,3 +53,22 @@ def test_ppo_torch_help_lists_the_paper_defaults(capsys):
     args = example.parse_args([])
     assert (args.num_envs, args.rollout_steps, args.epochs, args.minibatches) == (1024, 128, 4, 4)
     assert (args.lr, args.gamma, args.gae_lambda, args.clip) == (3e-4, 0.99, 0.95, 0.2)
+
+
+def test_ppo_torch_resumes_from_its_checkpoint_on_the_full_schedule(tmp_path):
+    example = load_example()
+    ckpt = str(tmp_path / "run.pt")
+    small = ["--num-envs", "4", "--rollout-steps", "8", "--minibatches", "2", "--epochs", "1",
+             "--hidden", "16", "--filters", "4", "--device", "cpu", "--threads", "1",
+             "--total-steps", str(4 * 8 * 4), "--checkpoint", ckpt]
+    first = example.main(small + ["--max-updates", "2"])
+    assert [line["update"] for line in first] == [1, 2]
+    rest = example.main(small + ["--resume", "true"])
+    # The run goes on at update 3 of 4, with the learning rate annealed over all 4.
+    assert [line["update"] for line in rest] == [3, 4]
+    assert [line["env_steps"] for line in rest] == [3 * 32, 4 * 32]
+    assert rest[0]["lr"] == pytest.approx(3e-4 * (1 - 2 / 4))
+    saved = torch.load(ckpt)
+    assert saved["update"] == 4
+    with pytest.raises(SystemExit, match="--checkpoint"):
+        example.main(["--resume", "true", "--device", "cpu"])
