@@ -298,3 +298,38 @@ fn tempdir(name: &str) -> std::path::PathBuf {
     std::fs::create_dir_all(&dir).unwrap();
     dir
 }
+
+#[test]
+fn cluster_shaping_rewards_clustering_progress_and_only_changes_the_learning_signal() {
+    let run = |weight: f32| {
+        one_thread(|| {
+            let mut c = tiny(SymmetrySet::None, 4);
+            c.ppo.rollout_steps = 40; // every game ends at least once (at most 32 steps)
+            c.ppo.total_steps = 4 * 8 * 40;
+            c.ppo.cluster_shaping = weight;
+            let mut t = Trainer::<MlpEncoder>::new(c, 5).unwrap();
+            (0..2).map(|_| t.update().unwrap()).collect::<Vec<_>>()
+        })
+    };
+    let (off, on) = (run(0.0), run(1.0));
+    // Off, nothing is paid; on, the payment is a sum of whole clustered-colour changes.
+    assert!(off.iter().all(|s| s.cluster_reward == 0.0));
+    assert!(
+        on.iter().any(|s| s.cluster_reward != 0.0),
+        "random play clusters sometimes"
+    );
+    assert!(on.iter().all(|s| s.cluster_reward.fract() == 0.0));
+    // The first rollout acts with the same network and draws: the same games are played,
+    // and only what is learnt from them differs.
+    let (a, b) = (&off[0], &on[0]);
+    assert_eq!(
+        serde_json::to_string(&a.games).unwrap(),
+        serde_json::to_string(&b.games).unwrap()
+    );
+    assert_ne!(a.value_loss, b.value_loss);
+    // A negative weight is refused, naming the field.
+    let mut c = tiny(SymmetrySet::None, 1);
+    c.ppo.cluster_shaping = -1.0;
+    let e = c.validate("cfg").unwrap_err().to_string();
+    assert!(e.contains("ppo.cluster_shaping"), "{e}");
+}

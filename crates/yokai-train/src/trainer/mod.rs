@@ -86,6 +86,10 @@ pub struct UpdateStats {
     /// value means the recurrent state or the batch layout differs between acting and
     /// learning.
     pub replay_error: f64,
+    /// Net change in clustered colours over the rollout's non-final steps, summed over
+    /// games: what `ppo.cluster_shaping` paid before its weight (0 when it is off).
+    #[serde(default)]
+    pub cluster_reward: f64,
     /// Seconds spent acting (rollout) and learning (epochs) in this update.
     pub rollout_seconds: f64,
     pub learn_seconds: f64,
@@ -356,6 +360,7 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
             lr,
             shaping,
             replay_error: losses.replay_error,
+            cluster_reward: rollout.cluster_reward,
             rollout_seconds,
             learn_seconds: secs - rollout_seconds,
         })

@@ -30,6 +30,8 @@ pub(super) struct Rollout {
     pub games: MetricsAccumulator,
     /// Mean entropy of the acting seats' policies.
     pub entropy: f64,
+    /// Net change in clustered colours paid by the clustering shaping, unweighted.
+    pub cluster_reward: f64,
 }
 
 impl<E: Encoder, M: Memory> Trainer<E, M> {
@@ -59,6 +61,9 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
         let mut dones = vec![0f32; t_len * rows];
         let mut keeps = vec![0f32; t_len * rows];
         let mut chooses = vec![false; t_len * rows];
+        // Per game: clustered colours before the step (clustering shaping only).
+        let mut clustered = vec![0f32; n];
+        let mut cluster_reward = 0f64;
         let h0 = self.state.hidden.clone();
         let net = self.model.valid();
         let dev = self.infer_device.clone();
@@ -94,10 +99,23 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
                 }
                 joint[r] = self.to_true_action(r, a) as u32;
             }
+            let cluster_weight = shaping as f32 * c.cluster_shaping;
+            if cluster_weight > 0.0 {
+                for (i, before) in clustered.iter_mut().enumerate() {
+                    *before = self.env.game(i).clustered_colours() as f32;
+                }
+            }
             self.env.step_joint(&joint)?;
             for i in 0..n {
-                let reward = self.env.rewards()[i] + shaping as f32 * self.env.shaping()[i];
+                let mut reward = self.env.rewards()[i] + shaping as f32 * self.env.shaping()[i];
                 let done = self.env.dones()[i] == 1;
+                // A finished game has been dealt again: its last step keeps the game's reward,
+                // which counts the clustered colours itself.
+                if cluster_weight > 0.0 && !done {
+                    let after = self.env.game(i).clustered_colours() as f32;
+                    reward += cluster_weight * (after - clustered[i]);
+                    cluster_reward += (after - clustered[i]) as f64;
+                }
                 for s in 0..p {
                     rewards[t * rows + i * p + s] = reward;
                     dones[t * rows + i * p + s] = done as u8 as f32;
@@ -159,6 +177,7 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
             } else {
                 0.0
             },
+            cluster_reward,
         })
     }
 }
