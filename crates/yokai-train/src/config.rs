@@ -97,6 +97,11 @@ pub struct PpoConfig {
     pub value_coef: f32,
     /// Entropy bonus α.
     pub entropy_coef: f32,
+    /// Divide each row's entropy by the log of its number of legal actions before the
+    /// bonus, so a turn with 700 legal moves and one with 10 pull towards uniform with the
+    /// same strength (the raw masked entropy of a 700-way choice swamps the policy gradient;
+    /// docs/training.md). Off in the paper's presets.
+    pub entropy_normalized: bool,
     /// Global gradient-norm clip.
     pub max_grad_norm: f32,
     pub epochs: usize,
@@ -172,6 +177,7 @@ impl Default for PpoConfig {
             value_clip: 0.2,
             value_coef: 0.5,
             entropy_coef: 0.05,
+            entropy_normalized: false,
             max_grad_norm: 0.5,
             epochs: 4,
             minibatches: 4,

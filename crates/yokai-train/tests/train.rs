@@ -333,3 +333,21 @@ fn cluster_shaping_rewards_clustering_progress_and_only_changes_the_learning_sig
     let e = c.validate("cfg").unwrap_err().to_string();
     assert!(e.contains("ppo.cluster_shaping"), "{e}");
 }
+
+#[test]
+fn normalized_entropy_reweights_only_the_entropy_bonus() {
+    let params = |alpha: f32, normalized: bool| {
+        one_thread(|| {
+            let mut c = tiny(SymmetrySet::None, 2);
+            c.ppo.entropy_coef = alpha;
+            c.ppo.entropy_normalized = normalized;
+            let mut t = Trainer::<MlpEncoder>::new(c, 2).unwrap();
+            t.update().unwrap();
+            t.parameters()
+        })
+    };
+    // Without a bonus the flag has nothing to act on: the same parameters bit for bit.
+    assert_eq!(params(0.0, false), params(0.0, true));
+    // With one, dividing each row's entropy by ln(legal actions) changes the step.
+    assert_ne!(params(0.05, false), params(0.05, true));
+}

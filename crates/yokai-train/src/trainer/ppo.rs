@@ -80,6 +80,8 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
         let mut one_hot = Vec::new();
         let mut old_logp = Vec::new();
         let mut adv = Vec::new();
+        // Per choosing row, with `entropy_normalized`: 1 / ln(its legal actions).
+        let mut ent_weight = Vec::new();
         for (j, &r) in batch.iter().enumerate() {
             h0.extend_from_slice(&ro.h0[r * hsz..][..hsz]);
             for t in 0..t_len {
@@ -96,6 +98,13 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
                     one_hot[at + ro.actions[i]] = 1.0;
                     old_logp.push(ro.logps[i]);
                     adv.push(ro.adv[i]);
+                    if c.entropy_normalized {
+                        let legal = ro.masks[i * na..][..na]
+                            .iter()
+                            .filter(|&&m| m > 0.5)
+                            .count();
+                        ent_weight.push(1.0 / (legal as f32).ln());
+                    }
                 }
             }
         }
@@ -131,7 +140,12 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
             let mask = tensor2(masks, [n, na], d);
             let log_probs = masked_log_softmax(logits, mask.clone());
             let logp = chosen_log_prob(log_probs.clone(), tensor2(one_hot, [n, na], d));
-            let ent = entropy(log_probs, mask).mean();
+            let row_entropy = entropy(log_probs, mask);
+            let ent = if c.entropy_normalized {
+                (row_entropy * tensor1(ent_weight, d)).mean()
+            } else {
+                row_entropy.mean()
+            };
             let adv = tensor1(adv, d);
             let delta = logp - tensor1(old_logp, d);
             let replay_error = delta.clone().abs().mean().into_scalar::<f32>() as f64;
