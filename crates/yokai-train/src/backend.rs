@@ -79,7 +79,7 @@ impl Backend {
             });
         }
         match self {
-            Backend::Cpu => Ok(Device::flex()),
+            Backend::Cpu => Ok(crate::trainer::default_device()),
             #[cfg(feature = "vulkan")]
             Backend::Vulkan => Ok(Device::vulkan(burn::tensor::DeviceKind::DiscreteGpu(0))),
             #[cfg(feature = "cuda")]

@@ -10,7 +10,6 @@
 //! Determinism: weights, action draws, minibatch order and Other-Play symmetries all come
 //! from the run seed through counter-based derivations (update, env, episode, seat), so a
 //! checkpoint needs no generator state, and a resumed run equals an uninterrupted one.
-
 //!
 //! The jobs live in one module each: `rollout` (acting and advantages), `ppo` (the PPO
 //! epochs and loss), `checkpoint` (files and exact resume); this module holds the run's

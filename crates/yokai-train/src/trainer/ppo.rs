@@ -90,7 +90,7 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
                 keep.push(ro.keeps[i]);
                 old_v.push(ro.values[i]);
                 ret.push(ro.returns[i]);
-                if ro.chooses[i] {
+                if ro.legal[i] > 1 {
                     choosing.push((j * t_len + t) as i64);
                     masks.extend_from_slice(&ro.masks[i * na..][..na]);
                     let at = one_hot.len();
@@ -99,11 +99,7 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
                     old_logp.push(ro.logps[i]);
                     adv.push(ro.adv[i]);
                     if c.entropy_normalized {
-                        let legal = ro.masks[i * na..][..na]
-                            .iter()
-                            .filter(|&&m| m > 0.5)
-                            .count();
-                        ent_weight.push(1.0 / (legal as f32).ln());
+                        ent_weight.push(1.0 / (ro.legal[i] as f32).ln());
                     }
                 }
             }

@@ -20,8 +20,9 @@ pub(super) struct Rollout {
     pub logps: Vec<f32>,
     pub values: Vec<f32>,
     pub keeps: Vec<f32>,
-    /// Whether the row had more than one legal action at that step.
-    pub chooses: Vec<bool>,
+    /// The row's number of legal actions at that step (1: a waiting seat or a forced move,
+    /// which carries no policy gradient).
+    pub legal: Vec<u32>,
     pub adv: Vec<f32>,
     pub returns: Vec<f32>,
     /// Every row's recurrent state at the start of the rollout (`[rows × H]`).
@@ -60,9 +61,17 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
         let mut rewards = vec![0f32; t_len * rows];
         let mut dones = vec![0f32; t_len * rows];
         let mut keeps = vec![0f32; t_len * rows];
-        let mut chooses = vec![false; t_len * rows];
-        // Per game: clustered colours before the step (clustering shaping only).
-        let mut clustered = vec![0f32; n];
+        let mut legal = vec![0u32; t_len * rows];
+        // Clustering shaping: per game, the clustered colours of its current state, counted
+        // once per step (after it) and carried to the next step as its "before".
+        let cluster_weight = shaping as f32 * c.cluster_shaping;
+        let mut clustered: Vec<f32> = if cluster_weight > 0.0 {
+            (0..n)
+                .map(|i| self.env.game(i).clustered_colours() as f32)
+                .collect()
+        } else {
+            Vec::new()
+        };
         let mut cluster_reward = 0f64;
         let h0 = self.state.hidden.clone();
         let net = self.model.valid();
@@ -92,29 +101,26 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
                 let (a, lp, h) = sample_row(&logits[r * na..][..na], &m[r * na..][..na], u, false);
                 actions[t * rows + r] = a;
                 logps[t * rows + r] = lp;
-                chooses[t * rows + r] = m[r * na..][..na].iter().filter(|&&x| x > 0.5).count() > 1;
+                legal[t * rows + r] = m[r * na..][..na].iter().filter(|&&x| x > 0.5).count() as u32;
                 if acting[r / p] as usize == r % p {
                     ent_sum += h as f64;
                     ent_rows += 1;
                 }
                 joint[r] = self.to_true_action(r, a) as u32;
             }
-            let cluster_weight = shaping as f32 * c.cluster_shaping;
-            if cluster_weight > 0.0 {
-                for (i, before) in clustered.iter_mut().enumerate() {
-                    *before = self.env.game(i).clustered_colours() as f32;
-                }
-            }
             self.env.step_joint(&joint)?;
             for i in 0..n {
                 let mut reward = self.env.rewards()[i] + shaping as f32 * self.env.shaping()[i];
                 let done = self.env.dones()[i] == 1;
-                // A finished game has been dealt again: its last step keeps the game's reward,
-                // which counts the clustered colours itself.
-                if cluster_weight > 0.0 && !done {
+                if cluster_weight > 0.0 {
                     let after = self.env.game(i).clustered_colours() as f32;
-                    reward += cluster_weight * (after - clustered[i]);
-                    cluster_reward += (after - clustered[i]) as f64;
+                    // A finished game has been dealt again: its last step keeps the game's
+                    // reward, which counts the clustered colours itself.
+                    if !done {
+                        reward += cluster_weight * (after - clustered[i]);
+                        cluster_reward += (after - clustered[i]) as f64;
+                    }
+                    clustered[i] = after;
                 }
                 for s in 0..p {
                     rewards[t * rows + i * p + s] = reward;
@@ -167,7 +173,7 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
             logps,
             values,
             keeps,
-            chooses,
+            legal,
             adv,
             returns,
             h0,
