@@ -170,6 +170,16 @@ def main(argv=None) -> list[dict]:
     hidden = torch.zeros((rows, args.hidden), device=device)
     starts = torch.ones(rows, device=device)
     seat_ids = torch.arange(p, device=device).repeat(n)
+
+    def forward(out, hidden, starts):
+        """The network on the views in `out` (states zeroed where episodes start):
+        observations, masks, the new states, log-probabilities and values."""
+        obs = torch.from_numpy(out["obs"]).to(device, non_blocking=True).view(rows, *obs_shape)
+        mask = torch.from_numpy(out["legal_mask"]).to(device).view(rows, a_n).bool()
+        hidden = net.gru(net.project(obs), hidden * (1.0 - starts[:, None])).float()
+        logp, value = net.heads(hidden, mask)
+        return obs, mask, hidden, logp.float(), value.float()
+
     log, steps = [], (first - 1) * n * t_n
     for update in range(first, last + 1):
         t0 = time.perf_counter()
@@ -181,12 +191,8 @@ def main(argv=None) -> list[dict]:
         ended = []
         with torch.no_grad(), autocast:
             for t in range(t_n):
-                obs = torch.from_numpy(out["obs"]).to(device, non_blocking=True).view(rows, *obs_shape)
-                mask = torch.from_numpy(out["legal_mask"]).to(device).view(rows, a_n).bool()
                 acting = torch.from_numpy(out["acting_seat"]).to(device).long().repeat_interleave(p)
-                hidden = net.gru(net.project(obs), hidden * (1.0 - starts[:, None])).float()
-                logp, value = net.heads(hidden, mask)
-                logp, value = logp.float(), value.float()
+                obs, mask, hidden, logp, value = forward(out, hidden, starts)
                 action = torch.distributions.Categorical(logits=logp).sample()
                 action = torch.where(seat_ids == acting, action, torch.zeros_like(action))
                 obs_buf[t], mask_buf[t], act_buf[t], val_buf[t] = obs, mask, action, value
@@ -199,13 +205,8 @@ def main(argv=None) -> list[dict]:
                 starts = done_buf[t]
                 if out["done"].any():
                     ended.append({k: v[out["done"]].copy() for k, v in out["final"].items()})
-            next_value = net.heads(
-                net.gru(
-                    net.project(torch.from_numpy(out["obs"]).to(device).view(rows, *obs_shape)),
-                    hidden * (1.0 - starts[:, None]),
-                ),
-                torch.from_numpy(out["legal_mask"]).to(device).view(rows, a_n).bool(),
-            )[1]
+            # The state reached here is not kept: the next rollout starts from these views.
+            next_value = forward(out, hidden, starts)[4]
             adv = torch.zeros_like(rew_buf)
             last = torch.zeros(rows, device=device)
             for t in reversed(range(t_n)):

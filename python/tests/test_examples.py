@@ -44,15 +44,21 @@ def test_ppo_torch_runs_updates_on_cpu_with_legal_actions(tmp_path):
         assert line["entropy"] > 1.0
 
 
-def test_ppo_torch_help_lists_the_paper_defaults(capsys):
+def test_ppo_torch_defaults_are_the_paper_preset_of_yokai_train(capsys):
     example = load_example()
     with pytest.raises(SystemExit):
         example.parse_args(["--help"])
     text = capsys.readouterr().out
     assert "--entropy-coef" in text and "--rollout-steps" in text
+    # The example and `yokai train ippo-9c-2p` must train the same thing by default: what the
+    # shipped preset states is what the example's flags default to.
+    tomllib = pytest.importorskip("tomllib")
+    preset = pathlib.Path(__file__).resolve().parents[2] / "configs" / "ippo-9c-2p.toml"
+    config = tomllib.loads(preset.read_text())
     args = example.parse_args([])
-    assert (args.num_envs, args.rollout_steps, args.epochs, args.minibatches) == (1024, 128, 4, 4)
-    assert (args.lr, args.gamma, args.gae_lambda, args.clip) == (3e-4, 0.99, 0.95, 0.2)
+    assert args.config == config["game"]
+    for key, value in config["ppo"].items():
+        assert getattr(args, key) == value, key
 
 
 def test_ppo_torch_resumes_from_its_checkpoint_on_the_full_schedule(tmp_path):
