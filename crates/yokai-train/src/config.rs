@@ -60,10 +60,24 @@ pub enum NetworkPreset {
     Compact,
 }
 
+/// How the actor turns the GRU state into action logits.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ActionHead {
+    /// One dense layer `hidden → N_a` (the paper's).
+    #[default]
+    Dense,
+    /// Logits of OBSERVE, MOVE and PLACE scored from per-card and per-hint embeddings
+    /// (`network/pointer.rs`); compact network only.
+    Pointer,
+}
+
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct NetworkConfig {
     pub preset: NetworkPreset,
+    /// The actor head: `dense` (the paper's) or `pointer`.
+    pub head: ActionHead,
     /// Width of the embedding layer and of the GRU state (256 in the paper).
     pub hidden: usize,
     /// Conv filters per layer (paper preset only; 64 in the paper).
@@ -102,6 +116,12 @@ pub struct PpoConfig {
     /// same strength (the raw masked entropy of a 700-way choice swamps the policy gradient;
     /// docs/training.md). Off in the paper's presets.
     pub entropy_normalized: bool,
+    /// Bonus on the entropy of the binary choice "END or not" wherever END is legal (the
+    /// first substep of a turn): keeps ending explored without pulling the hundreds of
+    /// MOVE logits towards uniform as `entropy_coef` does. END pays only when the board is
+    /// won, so PPO otherwise stops trying it in the first updates (docs/training.md).
+    /// 0 (the paper's presets) turns it off.
+    pub end_entropy_coef: f32,
     /// Global gradient-norm clip.
     pub max_grad_norm: f32,
     pub epochs: usize,
@@ -154,6 +174,7 @@ impl Default for NetworkConfig {
     fn default() -> Self {
         NetworkConfig {
             preset: NetworkPreset::Paper,
+            head: ActionHead::Dense,
             hidden: 256,
             filters: 64,
             actor_gain: 0.01,
@@ -178,6 +199,7 @@ impl Default for PpoConfig {
             value_coef: 0.5,
             entropy_coef: 0.05,
             entropy_normalized: false,
+            end_entropy_coef: 0.0,
             max_grad_norm: 0.5,
             epochs: 4,
             minibatches: 4,
@@ -299,6 +321,9 @@ impl TrainConfig {
                 "must be positive",
             );
         }
+        if !(p.end_entropy_coef >= 0.0 && p.end_entropy_coef.is_finite()) {
+            return bad("ppo.end_entropy_coef", "must be a number ≥ 0");
+        }
         if !(p.cluster_shaping >= 0.0 && p.cluster_shaping.is_finite()) {
             return bad("ppo.cluster_shaping", "must be a number ≥ 0");
         }
@@ -309,6 +334,13 @@ impl TrainConfig {
             return bad(
                 "network.preset",
                 "paper needs a grid of at least 9×9 (four valid 3×3 convolutions)",
+            );
+        }
+        if self.network.head == ActionHead::Pointer && self.network.preset != NetworkPreset::Compact
+        {
+            return bad(
+                "network.head",
+                "pointer reads the graph node features: it needs network.preset = \"compact\"",
             );
         }
         if self.run.checkpoint_every == 0 || self.run.log_every == 0 {

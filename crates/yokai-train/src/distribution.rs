@@ -27,6 +27,15 @@ pub fn entropy(log_probs: Tensor<2>, mask: Tensor<2>) -> Tensor<1> {
     (p * log_probs * mask).sum_dim(1).squeeze_dim::<1>(1).neg()
 }
 
+/// Entropy `[B]` of the binary choice "action `a` or another" in each row, from its
+/// log-probabilities: how undecided the row is about that one action.
+pub fn binary_entropy(log_probs: Tensor<2>, a: usize) -> Tensor<1> {
+    let log_p = log_probs.narrow(1, a, 1).squeeze_dim::<1>(1);
+    let p = log_p.clone().exp();
+    let rest = (p.clone().neg() + 1.0).clamp_min(1e-7);
+    (p * log_p + rest.clone() * rest.log()).neg()
+}
+
 /// Log-probability `[B]` of each row's chosen action, given as a one-hot `[B, N_a]`.
 pub fn chosen_log_prob(log_probs: Tensor<2>, one_hot: Tensor<2>) -> Tensor<1> {
     (log_probs * one_hot).sum_dim(1).squeeze_dim::<1>(1)
@@ -83,6 +92,34 @@ mod tests {
 
     fn t2(v: Vec<f32>, shape: [usize; 2]) -> Tensor<2> {
         Tensor::from_data(TensorData::new(v, shape), &Device::flex())
+    }
+
+    #[test]
+    fn binary_entropy_is_the_entropy_of_one_action_against_the_rest() {
+        // p(action 1) = 1/4, 3/4 and 1 (the other actions illegal or impossible).
+        let lp = t2(
+            vec![
+                0.75f32.ln(),
+                0.25f32.ln(),
+                0.25f32.ln(),
+                0.75f32.ln(),
+                -200.0,
+                0.0,
+            ],
+            [3, 2],
+        );
+        let h: Vec<f32> = binary_entropy(lp, 1)
+            .into_data()
+            .convert::<f32>()
+            .try_into_vec()
+            .unwrap();
+        let expected = -(0.25f32 * 0.25f32.ln() + 0.75 * 0.75f32.ln());
+        assert!((h[0] - expected).abs() < 1e-6, "{h:?}");
+        assert!((h[1] - expected).abs() < 1e-6, "{h:?}");
+        assert!(
+            h[2].abs() < 1e-5 && h[2].is_finite(),
+            "a sure action: {h:?}"
+        );
     }
 
     #[test]

@@ -351,3 +351,94 @@ fn normalized_entropy_reweights_only_the_entropy_bonus() {
     // With one, dividing each row's entropy by ln(legal actions) changes the step.
     assert_ne!(params(0.05, false), params(0.05, true));
 }
+
+/// The learning test CI keeps: the shipped `quick` preset (pointer head) learns within
+/// 60 updates (123k steps), measured on its own training games, so a change that breaks
+/// learning fails here. Uniformly random legal play scores R −4.0 (RULES.md §4) and never
+/// ending −4.27; the untrained network scores about −4.2 with 2.5 correct hints of 4.
+#[test]
+fn the_quick_preset_learns_to_hint_and_to_cluster_beyond_random_play() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../configs/quick.toml");
+    let mut config = TrainConfig::from_file(std::path::Path::new(path)).unwrap();
+    config.run.threads = 1;
+    let stats = one_thread(|| {
+        let mut t = Trainer::<MlpEncoder>::new(config, 0).unwrap();
+        (0..60).map(|_| t.update().unwrap()).collect::<Vec<_>>()
+    });
+    let last: Vec<_> = stats[50..].iter().filter_map(|s| s.games).collect();
+    let mean = |f: &dyn Fn(&yokai_engine::Metrics) -> f64| {
+        last.iter().map(f).sum::<f64>() / last.len() as f64
+    };
+    let reward = mean(&|m| m.reward);
+    let correct = mean(&|m| m.correct_hints);
+    assert!(
+        reward > -3.4,
+        "mean R of updates 51-60 is {reward:.2}: no better than random play (-4.0) by 0.6"
+    );
+    assert!(
+        correct > 3.3,
+        "{correct:.2} correct hints of 4 per game in updates 51-60"
+    );
+}
+
+/// Mean P(END) at the first step of `n` fresh deals, under `t`'s network.
+fn p_end_at_start(t: &Trainer<MlpEncoder>, n: usize) -> f32 {
+    use burn::prelude::*;
+    use burn::tensor::TensorData;
+    let game_config = t.config().game_config().unwrap();
+    let [nodes, f] = game_config.node_shape(Part::Full);
+    let (l, na) = (nodes * f, game_config.num_actions());
+    let (mut obs, mut masks) = (vec![0f32; n * l], vec![0f32; n * na]);
+    for i in 0..n {
+        let g = yokai_engine::Game::new(game_config, 1000 + i as u64);
+        let view = g.view(yokai_engine::Seat(0));
+        view.write_nodes(Part::Full, &mut obs[i * l..][..l])
+            .unwrap();
+        view.write_legal_mask(&mut masks[i * na..][..na]);
+    }
+    let dev = Device::flex();
+    let net = t.model().valid();
+    let (out, _) = net.step(
+        Tensor::from_data(TensorData::new(obs, [n, l]), &dev),
+        Tensor::zeros([n, net.hidden_size()], &dev),
+        Tensor::zeros([n, 1], &dev),
+    );
+    let lp = yokai_train::distribution::masked_log_softmax(
+        out.logits,
+        Tensor::from_data(TensorData::new(masks, [n, na]), &dev),
+    );
+    let v: Vec<f32> = lp.into_data().convert::<f32>().try_into_vec().unwrap();
+    (0..n).map(|i| v[i * na + 1].exp()).sum::<f32>() / n as f32
+}
+
+#[test]
+fn the_end_entropy_bonus_keeps_end_explored_and_is_off_at_zero() {
+    let train = |coef: f32| {
+        one_thread(|| {
+            let mut c = tiny(SymmetrySet::None, 8);
+            c.ppo.end_entropy_coef = coef;
+            let mut t = Trainer::<MlpEncoder>::new(c, 4).unwrap();
+            let before = p_end_at_start(&t, 64);
+            for _ in 0..8 {
+                t.update().unwrap();
+            }
+            (before, p_end_at_start(&t, 64), t.parameters())
+        })
+    };
+    let (off, on) = (train(0.0), train(1.0));
+    assert_eq!(off.0, on.0, "the same initial network");
+    // The untrained policy ends with P ≈ 1/(Y+1); the bonus pulls "END or not" towards
+    // undecided, so P(END) rises well above where plain PPO leaves it.
+    assert!(off.0 < 0.2, "initial P(END) {}", off.0);
+    assert!(
+        on.1 > off.1 + 0.1 && on.1 > off.0,
+        "P(END) at the first step: {} at the start, {} without the bonus, {} with it",
+        off.0,
+        off.1,
+        on.1
+    );
+    let mut c = tiny(SymmetrySet::None, 1);
+    c.ppo.end_entropy_coef = f32::NAN;
+    let e = c.validate("cfg").unwrap_err().to_string();
+    assert!(e.contains("ppo.end_entropy_coef"), "{e}");
+}

@@ -4,7 +4,7 @@
 
 use super::rollout::Rollout;
 use super::{tensor1, tensor2, Trainer};
-use crate::distribution::{chosen_log_prob, entropy, masked_log_softmax};
+use crate::distribution::{binary_entropy, chosen_log_prob, entropy, masked_log_softmax};
 use crate::network::{Encoder, Memory};
 use burn::module::{Module, ModuleMapper, ModuleVisitor, Param};
 use burn::optim::GradientsParams;
@@ -12,6 +12,9 @@ use burn::prelude::*;
 use burn::tensor::TensorData;
 use rand_chacha::rand_core::Rng;
 use rand_chacha::ChaCha8Rng;
+
+/// The action index of END (RULES.md §3).
+const END: usize = 1;
 
 /// What the epochs of one update report.
 pub(super) struct Losses {
@@ -82,6 +85,8 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
         let mut adv = Vec::new();
         // Per choosing row, with `entropy_normalized`: 1 / ln(its legal actions).
         let mut ent_weight = Vec::new();
+        // Per choosing row, with `end_entropy_coef`: 1 where END is legal.
+        let mut end_legal = Vec::new();
         for (j, &r) in batch.iter().enumerate() {
             h0.extend_from_slice(&ro.h0[r * hsz..][..hsz]);
             for t in 0..t_len {
@@ -101,6 +106,9 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
                     if c.entropy_normalized {
                         ent_weight.push(1.0 / (ro.legal[i] as f32).ln());
                     }
+                    if c.end_entropy_coef > 0.0 {
+                        end_legal.push(ro.masks[i * na + END]);
+                    }
                 }
             }
         }
@@ -113,7 +121,7 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
         let d = &self.device;
         let obs: Tensor<3> = Tensor::from_data(TensorData::new(obs, [bm, t_len, l]), d);
         let states = self.model.unroll(
-            obs,
+            obs.clone(),
             tensor2(h0, [bm, hsz], d),
             tensor2(keep, [bm, t_len], d),
         );
@@ -127,15 +135,29 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
             .mean()
             * 0.5;
         let n = choosing.len();
-        let (policy_loss, ent, replay_error) = if n == 0 {
+        let (policy_loss, ent, end_bonus, replay_error) = if n == 0 {
             let zero = Tensor::<1>::zeros([1], d).sum();
-            (zero.clone(), zero, 0.0)
+            (zero.clone(), zero.clone(), zero, 0.0)
         } else {
             let idx = Tensor::<1, Int>::from_data(TensorData::new(choosing, [n]), d);
-            let logits = self.model.policy_logits(states.select(0, idx));
+            // The pointer head also reads the chosen rows' observations.
+            let row_obs = if self.model.actor_reads_observations() {
+                obs.reshape([bm * t_len, l]).select(0, idx.clone())
+            } else {
+                Tensor::zeros([n, 1], d)
+            };
+            let logits = self.model.policy_logits(row_obs, states.select(0, idx));
             let mask = tensor2(masks, [n, na], d);
             let log_probs = masked_log_softmax(logits, mask.clone());
             let logp = chosen_log_prob(log_probs.clone(), tensor2(one_hot, [n, na], d));
+            let end_bonus = if c.end_entropy_coef > 0.0 {
+                let rows_with_end = end_legal.iter().sum::<f32>().max(1.0);
+                (binary_entropy(log_probs.clone(), END) * tensor1(end_legal, d)).sum()
+                    / rows_with_end
+                    * c.end_entropy_coef
+            } else {
+                Tensor::<1>::zeros([1], d).sum()
+            };
             let row_entropy = entropy(log_probs, mask);
             let ent = if c.entropy_normalized {
                 (row_entropy * tensor1(ent_weight, d)).mean()
@@ -148,9 +170,11 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
             let ratio = delta.exp();
             let clipped = ratio.clone().clamp(1.0 - c.clip, 1.0 + c.clip);
             let policy_loss = (ratio * adv.clone()).min_pair(clipped * adv).mean().neg();
-            (policy_loss, ent, replay_error)
+            (policy_loss, ent, end_bonus, replay_error)
         };
-        let loss = policy_loss.clone() + value_loss.clone() * c.value_coef - ent * c.entropy_coef;
+        let loss = policy_loss.clone() + value_loss.clone() * c.value_coef
+            - ent * c.entropy_coef
+            - end_bonus;
         let mut grads = GradientsParams::from_grads(loss.backward(), &self.model);
         clip_global_norm(&self.model, &mut grads, c.max_grad_norm);
         let model = self.model.clone();

@@ -5,7 +5,11 @@
 //! over it. The GRU is our own cell built from two linear maps, because burn's `Gru` cannot
 //! reset its state inside a sequence and PPO rollouts contain episode starts anywhere.
 
-use crate::config::{NetworkPreset, TrainConfig};
+mod pointer;
+
+pub use pointer::PointerHead;
+
+use crate::config::{ActionHead, NetworkPreset, TrainConfig};
 use crate::init::Init;
 use burn::module::Module;
 use burn::nn::conv::Conv2d;
@@ -187,12 +191,17 @@ pub struct Output {
 }
 
 /// Encoder → Linear → ReLU → memory (a GRU by default) → actor and critic heads.
+///
+/// The actor is one of two heads (`network.head`): `actor`, a dense layer over the state
+/// (the paper's), or `pointer`, which also reads the observation's per-card features
+/// ([`PointerHead`]). Exactly one of them is present.
 #[derive(Module, Debug)]
 pub struct ActorCritic<E: Encoder, M: Memory> {
     encoder: E,
     embed: Linear,
     gru: M,
-    actor: Linear,
+    actor: Option<Linear>,
+    pointer: Option<PointerHead>,
     critic: Linear,
     #[module(skip)]
     hidden: usize,
@@ -209,7 +218,10 @@ impl<E: Encoder, M: Memory> ActorCritic<E, M> {
             embed: init.linear(encoder.output_size(), h, sqrt2, device),
             encoder,
             gru: M::new(h, h, &mut init, device),
-            actor: init.linear(h, game.num_actions(), config.network.actor_gain, device),
+            actor: (config.network.head == ActionHead::Dense)
+                .then(|| init.linear(h, game.num_actions(), config.network.actor_gain, device)),
+            pointer: (config.network.head == ActionHead::Pointer)
+                .then(|| PointerHead::new(game, h, config.network.actor_gain, &mut init, device)),
             critic: init.linear(h, 1, config.network.critic_gain, device),
             hidden: h,
         }
@@ -225,10 +237,10 @@ impl<E: Encoder, M: Memory> ActorCritic<E, M> {
         self.gru.project(x)
     }
 
-    fn heads(&self, h: Tensor<2>) -> Output {
+    fn heads(&self, obs: Tensor<2>, h: Tensor<2>) -> Output {
         let values = self.critic.forward(h.clone()).squeeze_dim(1);
         Output {
-            logits: self.actor.forward(h),
+            logits: self.policy_logits(obs, h),
             values,
         }
     }
@@ -237,14 +249,24 @@ impl<E: Encoder, M: Memory> ActorCritic<E, M> {
     /// (0 where an episode starts at this step, which zeroes that row's state first).
     /// Returns the outputs and the new states.
     pub fn step(&self, obs: Tensor<2>, h: Tensor<2>, keep: Tensor<2>) -> (Output, Tensor<2>) {
-        let gx = self.input_projection(obs);
+        let gx = self.input_projection(obs.clone());
         let h = self.gru.step(gx, h * keep);
-        (self.heads(h.clone()), h)
+        (self.heads(obs, h.clone()), h)
     }
 
-    /// Action logits `[rows, N_a]` from GRU states.
-    pub fn policy_logits(&self, states: Tensor<2>) -> Tensor<2> {
-        self.actor.forward(states)
+    /// Action logits `[rows, N_a]` from the rows' observations `[rows, L]` (read by the
+    /// pointer head only) and the GRU states after them.
+    pub fn policy_logits(&self, obs: Tensor<2>, states: Tensor<2>) -> Tensor<2> {
+        match (&self.actor, &self.pointer) {
+            (Some(actor), _) => actor.forward(states),
+            (None, Some(pointer)) => pointer.forward(obs, states),
+            (None, None) => unreachable!("ActorCritic::new builds one actor head"),
+        }
+    }
+
+    /// Whether the actor reads the observations (the pointer head) besides the states.
+    pub fn actor_reads_observations(&self) -> bool {
+        self.pointer.is_some()
     }
 
     /// State values `[rows]` from GRU states.

@@ -1,0 +1,308 @@
+//! The pointer-style actor head (`network.head = "pointer"`): action logits computed from
+//! per-card and per-hint embeddings instead of one dense `hidden × N_a` layer.
+//!
+//! Why: the actions of Yōkai are relations between things on the table. "Move card y to
+//! cell x" is good when x touches cards of y's colour; "place hint h on card y" is good
+//! when h's colours include y's. A dense layer must learn each of the Y·g² moves and H·Y
+//! placements separately, from a GRU state that has squeezed the board into one vector. Here
+//! one set of weights scores every (card, cell) and (hint, card) pair, so what is learnt
+//! about one card or cell holds for all of them:
+//!
+//! - every node (card or hint slot) gets an embedding `z = relu(W x + U h)` from its own
+//!   features `x` and the GRU state `h` (what the seat remembers);
+//! - cards add what their 4-neighbours look like (one message-passing step over the
+//!   board): `r_y = relu(z_y + M Σ_{y' next to y} z_{y'})`;
+//! - MOVE y→x: `q_y · (e_x + Σ_{y' next to cell x, y' ≠ y} k_{y'})`, a bilinear score of
+//!   the card against the cards that would become its neighbours (and a learnt embedding of
+//!   the cell);
+//! - OBSERVE y: a linear score of `r_y`; PLACE h on y: `a_h · b_y`;
+//! - NOOP, END and REVEAL: a linear map of the GRU state. (Adding the mean and maximum of
+//!   the card embeddings `r` to its input measured worse on `quick`: docs/training.md.)
+//!
+//! The card positions are read from the graph node features (row and column channels), so
+//! the head follows Other-Play's rotated views without knowing about them.
+
+use crate::init::Init;
+use burn::module::Module;
+use burn::nn::Linear;
+use burn::prelude::*;
+use burn::tensor::activation::relu;
+use burn::tensor::TensorData;
+use yokai_engine::Config;
+
+/// Width of the head's node embeddings.
+const WIDTH: usize = 32;
+
+#[derive(Module, Debug)]
+pub struct PointerHead {
+    /// Node features → embedding (shared by every card and hint slot).
+    node: Linear,
+    /// GRU state → embedding, added to every node.
+    context: Linear,
+    /// Sum of a card's neighbours' embeddings → added to its own.
+    message: Linear,
+    /// MOVE: query of the moving card, key of each card around the target cell.
+    move_query: Linear,
+    move_key: Linear,
+    /// A learnt embedding per cell: its weight `[g², WIDTH]` is read as a table.
+    cell: Linear,
+    /// OBSERVE: one score per card.
+    observe: Linear,
+    /// PLACE: query of the hint slot, key of the card.
+    hint_query: Linear,
+    hint_key: Linear,
+    /// NOOP, END, REVEAL from the GRU state.
+    other: Linear,
+    #[module(skip)]
+    shape: HeadShape,
+}
+
+/// The sizes the head needs from the game config.
+#[derive(Clone, Copy, Debug)]
+struct HeadShape {
+    cards: usize,
+    hints: usize,
+    features: usize,
+    grid: usize,
+    /// Feature channels of a node's row and column, scaled to [0, 1].
+    row: usize,
+    col: usize,
+}
+
+impl PointerHead {
+    pub fn new(game: &Config, hidden: usize, gain: f64, init: &mut Init, device: &Device) -> Self {
+        let [_, features] = game.node_shape(yokai_engine::Part::Full);
+        let ch = game.image_channels();
+        let g = game.grid();
+        let sqrt2 = std::f64::consts::SQRT_2;
+        PointerHead {
+            node: init.linear(features, WIDTH, sqrt2, device),
+            context: init.linear(hidden, WIDTH, sqrt2, device),
+            message: init.linear(WIDTH, WIDTH, 1.0, device),
+            move_query: init.linear(WIDTH, WIDTH, gain, device),
+            move_key: init.linear(WIDTH, WIDTH, 1.0, device),
+            cell: init.linear(g * g, WIDTH, 1.0, device),
+            observe: init.linear(WIDTH, 1, gain, device),
+            hint_query: init.linear(WIDTH, WIDTH, gain, device),
+            hint_key: init.linear(WIDTH, WIDTH, 1.0, device),
+            other: init.linear(hidden, 3, gain, device),
+            shape: HeadShape {
+                cards: game.cards(),
+                hints: game.hints(),
+                features,
+                grid: g,
+                row: ch.row,
+                col: ch.col,
+            },
+        }
+    }
+
+    /// Logits `[B, N_a]` in the game's action order, from the graph node features `[B,
+    /// (Y+H)·F]` and the GRU states `[B, H]` of the same rows.
+    pub fn forward(&self, nodes: Tensor<2>, h: Tensor<2>) -> Tensor<2> {
+        let HeadShape {
+            cards: y,
+            hints: nh,
+            features: f,
+            grid: g,
+            ..
+        } = self.shape;
+        let cells = g * g;
+        let [b, _] = nodes.dims();
+        let x: Tensor<3> = nodes.reshape([b, y + nh, f]);
+        let context: Tensor<3> = self.context.forward(h.clone()).unsqueeze_dim(1);
+        let z = relu(self.node.forward(x.clone()) + context.expand([b, y + nh, WIDTH]));
+        let z_cards = z.clone().narrow(1, 0, y);
+        let z_hints = z.narrow(1, y, nh);
+
+        let (on, near) = self.layout(x.clone().narrow(1, 0, y));
+        // Card adjacency `[B, Y, Y]`, then one message-passing step.
+        let touching = near.clone().matmul(on.swap_dims(1, 2));
+        let gathered = touching.matmul(z_cards.clone());
+        let cards = relu(z_cards + self.message.forward(gathered));
+
+        let q = self.move_query.forward(cards.clone());
+        let k = self.move_key.forward(cards.clone());
+        // Keys of the cells: their own embedding plus the keys of the cards around them.
+        let table: Tensor<3> = self.cell_table().unsqueeze_dim(0);
+        let cell_keys =
+            near.clone().swap_dims(1, 2).matmul(k.clone()) + table.expand([b, cells, WIDTH]);
+        // A card moved next to its old cell would count itself as a neighbour: remove it.
+        let own = (q.clone() * k).sum_dim(2);
+        let moves = q.matmul(cell_keys.swap_dims(1, 2)) - near * own.expand([b, y, cells]);
+
+        let observe = self.observe.forward(cards.clone()).reshape([b, y]);
+        let place = self
+            .hint_query
+            .forward(z_hints)
+            .matmul(self.hint_key.forward(cards.clone()).swap_dims(1, 2));
+        let other = self.other.forward(h);
+        Tensor::cat(
+            vec![
+                other.clone().narrow(1, 0, 2),
+                observe,
+                moves.reshape([b, y * cells]),
+                other.narrow(1, 2, 1),
+                place.reshape([b, nh * y]),
+            ],
+            1,
+        )
+    }
+
+    /// Where the cards lie, from their node features `[B, Y, F]`: `on[b, y, x]` is 1 when
+    /// card y is on cell x, and `near[b, y, x]` is 1 when it lies on a 4-neighbour of cell x
+    /// (both `[B, Y, g²]`). The row and column channels hold i / (g − 1).
+    pub(crate) fn layout(&self, card_x: Tensor<3>) -> (Tensor<3>, Tensor<3>) {
+        let HeadShape {
+            grid: g, row, col, ..
+        } = self.shape;
+        let [b, y, _] = card_x.dims();
+        let cells = g * g;
+        let device = card_x.device();
+        let scale = (g - 1) as f32;
+        let r = (card_x.clone().narrow(2, row, 1) * scale).round();
+        let c = (card_x.narrow(2, col, 1) * scale).round();
+        let cell_of = (r * g as f32 + c).expand([b, y, cells]);
+        let ids: Tensor<3> = Tensor::from_data(
+            TensorData::new(
+                (0..cells).map(|i| i as f32).collect::<Vec<_>>(),
+                [1, 1, cells],
+            ),
+            &device,
+        );
+        // 1 − |cell − x| clamped at 0: exactly one-hot, since both are whole numbers.
+        let on = (-(cell_of - ids.expand([b, y, cells])).abs() + 1.0).clamp_min(0.0);
+        let near = on
+            .clone()
+            .reshape([b * y, cells])
+            .matmul(cell_adjacency(g, &device))
+            .reshape([b, y, cells]);
+        (on, near)
+    }
+
+    /// The cell embeddings `[g², WIDTH]`.
+    fn cell_table(&self) -> Tensor<2> {
+        self.cell.weight.val()
+    }
+}
+
+/// `[g², g²]`: 1 where two cells of the g×g board are 4-neighbours.
+fn cell_adjacency(g: usize, device: &Device) -> Tensor<2> {
+    let cells = g * g;
+    let mut a = vec![0f32; cells * cells];
+    for r in 0..g {
+        for c in 0..g {
+            let i = r * g + c;
+            let mut link = |j: usize| a[i * cells + j] = 1.0;
+            if r > 0 {
+                link(i - g);
+            }
+            if r + 1 < g {
+                link(i + g);
+            }
+            if c > 0 {
+                link(i - 1);
+            }
+            if c + 1 < g {
+                link(i + 1);
+            }
+        }
+    }
+    Tensor::from_data(TensorData::new(a, [cells, cells]), device)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::config::{ActionHead, NetworkPreset, TrainConfig};
+    use crate::network::{ActorCritic, GruCell, MlpEncoder};
+    use rand_chacha::rand_core::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+    use yokai_engine::{Card, Game, Part, Seat};
+
+    fn to_vec<const D: usize>(t: Tensor<D>) -> Vec<f32> {
+        t.into_data()
+            .convert::<f32>()
+            .try_into_vec::<f32>()
+            .unwrap()
+    }
+
+    /// Random legal play on 9c and 16c: the positions the head reads from the node
+    /// features are the engine's, and `near` is the 4-neighbourhood of every card's cell.
+    #[test]
+    fn layout_matches_the_engine_board_through_random_play() {
+        let device = Device::flex();
+        for name in ["9c-2p-perfect", "16c-3p-perfect"] {
+            let game_config = Config::from_name(name).unwrap();
+            let head = PointerHead::new(&game_config, 8, 0.01, &mut Init::new(1), &device);
+            let [nodes, f] = game_config.node_shape(Part::Full);
+            let (y, g) = (game_config.cards(), game_config.grid());
+            let mut rng = ChaCha8Rng::seed_from_u64(7);
+            let mut checked = 0;
+            for deal in 0..6 {
+                let mut game = Game::new(game_config, deal);
+                while !game.is_over() {
+                    let mut x = vec![0f32; nodes * f];
+                    game.view(Seat(0)).write_nodes(Part::Full, &mut x).unwrap();
+                    let x: Tensor<3> =
+                        Tensor::from_data(TensorData::new(x, [1, nodes, f]), &device);
+                    let (on, near) = head.layout(x.narrow(1, 0, y));
+                    let (on, near) = (to_vec(on), to_vec(near));
+                    for k in 0..y {
+                        let cell = game.cell_of(Card(k as u8));
+                        let (r, c) = (cell.row as usize, cell.col as usize);
+                        for i in 0..g * g {
+                            let (ri, ci) = (i / g, i % g);
+                            let here = (ri, ci) == (r, c);
+                            let beside = ri.abs_diff(r) + ci.abs_diff(c) == 1;
+                            assert_eq!(on[k * g * g + i], here as u8 as f32, "{name} card {k}");
+                            assert_eq!(near[k * g * g + i], beside as u8 as f32, "{name} card {k}");
+                        }
+                    }
+                    checked += 1;
+                    let legal = game.legal_actions(game.current_seat());
+                    let pick = legal[(rng.next_u64() % legal.len() as u64) as usize];
+                    game.apply(pick).unwrap();
+                }
+            }
+            assert!(checked > 50, "{name}: {checked} states");
+        }
+    }
+
+    /// The head scores every action of the game, in the engine's order: a MOVE logit
+    /// changes when a card next to its target cell changes, and not when a card far away
+    /// from the target does.
+    #[test]
+    fn move_logits_read_the_cards_around_the_target_cell() {
+        let device = Device::flex();
+        let mut config = TrainConfig::from_toml_str("", "test").unwrap();
+        config.network.preset = NetworkPreset::Compact;
+        config.network.head = ActionHead::Pointer;
+        config.network.hidden = 16;
+        config.network.actor_gain = 1.0;
+        let game_config = Config::from_name("9c-2p-perfect").unwrap();
+        let net = ActorCritic::<MlpEncoder, GruCell>::new(&config, &game_config, 3, &device);
+        let [nodes, f] = game_config.node_shape(Part::Full);
+        let game = Game::new(game_config, 0);
+        let mut x = vec![0f32; nodes * f];
+        game.view(Seat(0)).write_nodes(Part::Full, &mut x).unwrap();
+        let logits = |x: &[f32]| {
+            let obs = Tensor::from_data(TensorData::new(x.to_vec(), [1, nodes * f]), &device);
+            to_vec(net.policy_logits(obs, Tensor::zeros([1, 16], &device)))
+        };
+        let base = logits(&x);
+        assert_eq!(base.len(), game_config.num_actions());
+        // Card 0 starts at the start square's top-left corner (3, 3); card 8 at (5, 5).
+        // Give card 8 a known colour: the move of card 0 to (5, 6), next to card 8, changes;
+        // its move to (2, 3), far from card 8, does not.
+        let ch = game_config.image_channels();
+        let mut changed = x.clone();
+        changed[8 * f + ch.known] = 1.0 - changed[8 * f + ch.known];
+        let after = logits(&changed);
+        let g = game_config.grid();
+        let mv =
+            |card: usize, r: usize, c: usize| 2 + game_config.cards() + card * g * g + r * g + c;
+        assert_ne!(base[mv(0, 5, 6)], after[mv(0, 5, 6)]);
+        assert_eq!(base[mv(0, 2, 3)], after[mv(0, 2, 3)]);
+    }
+}
