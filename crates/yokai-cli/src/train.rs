@@ -18,6 +18,7 @@ macro_rules! presets {
 const PRESETS: &[(&str, &str)] = presets!(
     "quick",
     "quick-op",
+    "cpu",
     "ippo-9c-2p",
     "he-9c-2p",
     "op-9c-2p",
@@ -33,7 +34,7 @@ const PRESETS: &[(&str, &str)] = presets!(
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// Training config: a preset name (quick, quick-op, ippo-9c-2p, he-9c-2p, op-9c-2p, …;
+    /// Training config: a preset name (quick, quick-op, cpu, ippo-9c-2p, he-9c-2p, op-9c-2p, …;
     /// see configs/) or a path to a TOML file.
     #[arg(default_value = "quick")]
     config: String,

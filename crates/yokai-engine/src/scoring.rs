@@ -76,13 +76,24 @@ impl Game {
     /// R = S if won, else −d − (C − clustered) − wrong (d = 1 for an early end). Evaluated
     /// on the current board, whether or not the game is over.
     pub(crate) fn outcome_reward(&self) -> i32 {
+        self.reward_if_over(self.phase == Phase::EndedEarly)
+    }
+
+    /// The reward R that END would pay now (an early end, d = 1), from the true board: what
+    /// a trainer with the simulator at hand can use as the exact value of the END action
+    /// (`ppo.end_lookahead`). Meaningful where END is legal (a turn's first substep).
+    pub fn end_reward(&self) -> i32 {
+        self.reward_if_over(true)
+    }
+
+    /// R of the current board if the game were over, ended early or not.
+    fn reward_if_over(&self, early_end: bool) -> i32 {
         let clustered = self.clustered_colours();
         if clustered == self.config.colours() {
             self.score()
         } else {
             let (_, wrong) = self.hint_tally();
-            let d = (self.phase == Phase::EndedEarly) as i32;
-            -d - (self.config.colours() - clustered) as i32 - wrong as i32
+            -(early_end as i32) - (self.config.colours() - clustered) as i32 - wrong as i32
         }
     }
 

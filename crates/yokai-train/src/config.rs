@@ -122,6 +122,12 @@ pub struct PpoConfig {
     /// won, so PPO otherwise stops trying it in the first updates (docs/training.md).
     /// 0 (the paper's presets) turns it off.
     pub end_entropy_coef: f32,
+    /// Weight of an exact END term: wherever END is legal, the simulator knows what ending
+    /// now would pay (R of the true board, `Game::end_reward`), so the loss adds the
+    /// expected policy gradient of END, −π(END|s)·(R_END(s) − V(s)), at every such state,
+    /// not only where END was drawn. A centralised-training signal (the policy still acts
+    /// on its own view); 0 (the paper's presets) turns it off.
+    pub end_lookahead: f32,
     /// Global gradient-norm clip.
     pub max_grad_norm: f32,
     pub epochs: usize,
@@ -200,6 +206,7 @@ impl Default for PpoConfig {
             entropy_coef: 0.05,
             entropy_normalized: false,
             end_entropy_coef: 0.0,
+            end_lookahead: 0.0,
             max_grad_norm: 0.5,
             epochs: 4,
             minibatches: 4,
@@ -321,6 +328,9 @@ impl TrainConfig {
                 "must be positive",
             );
         }
+        if !(p.end_lookahead >= 0.0 && p.end_lookahead.is_finite()) {
+            return bad("ppo.end_lookahead", "must be a number ≥ 0");
+        }
         if !(p.end_entropy_coef >= 0.0 && p.end_entropy_coef.is_finite()) {
             return bad("ppo.end_entropy_coef", "must be a number ≥ 0");
         }
@@ -362,6 +372,22 @@ mod tests {
         assert_eq!(c.ppo.entropy_coef, 0.05);
         assert_eq!(c.network.hidden, 256);
         assert_eq!(c.algorithm.symmetries, SymmetrySet::None);
+        // The levers of issue 21 are opt-in: the paper's head, no extra bonus or shaping.
+        assert_eq!(c.network.head, ActionHead::Dense);
+        assert_eq!(c.ppo.end_entropy_coef, 0.0);
+        assert_eq!(c.ppo.end_lookahead, 0.0);
+        assert_eq!(c.ppo.cluster_shaping, 0.0);
+        assert!(!c.ppo.entropy_normalized);
+    }
+
+    #[test]
+    fn the_pointer_head_needs_the_compact_network() {
+        let e = TrainConfig::from_toml_str("[network]\nhead = \"pointer\"\n", "p.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("network.head") && e.contains("compact"), "{e}");
+        let ok = "[network]\nhead = \"pointer\"\npreset = \"compact\"\n";
+        assert!(TrainConfig::from_toml_str(ok, "p.toml").is_ok());
     }
 
     #[test]

@@ -234,6 +234,13 @@ pub fn play_checked(
             Depth::Full => true,
             Depth::Sampled(n) => step_index % n == 0,
         };
+        // What END would pay here (a trainer's exact value of END) is what ending pays.
+        if game.is_legal(Action::End) {
+            let mut ended = game.clone();
+            let step = ended.apply(Action::End).unwrap();
+            assert_eq!(step.reward, game.end_reward(), "END at step {step_index}");
+            assert_eq!(step.reward, reference_reward(&ended));
+        }
         // Cards: distinct cells, one 4-connected group, hinted cards where they were hinted.
         let cells: BTreeSet<(i32, i32)> = (0..y)
             .map(|k| {

@@ -2,7 +2,7 @@
 //! replayed from the state stored at the rollout's start; the clipped policy and value
 //! losses, the entropy bonus, the global gradient-norm clip and the Adam step.
 
-use super::rollout::Rollout;
+use super::rollout::{Rollout, END};
 use super::{tensor1, tensor2, Trainer};
 use crate::distribution::{binary_entropy, chosen_log_prob, entropy, masked_log_softmax};
 use crate::network::{Encoder, Memory};
@@ -12,9 +12,6 @@ use burn::prelude::*;
 use burn::tensor::TensorData;
 use rand_chacha::rand_core::Rng;
 use rand_chacha::ChaCha8Rng;
-
-/// The action index of END (RULES.md §3).
-const END: usize = 1;
 
 /// What the epochs of one update report.
 pub(super) struct Losses {
@@ -85,8 +82,10 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
         let mut adv = Vec::new();
         // Per choosing row, with `entropy_normalized`: 1 / ln(its legal actions).
         let mut ent_weight = Vec::new();
-        // Per choosing row, with `end_entropy_coef`: 1 where END is legal.
+        // Per choosing row, with `end_entropy_coef` or `end_lookahead`: 1 where END is legal.
         let mut end_legal = Vec::new();
+        // Per choosing row, with `end_lookahead`: R_END(s) − V(s) (0 where END is illegal).
+        let mut end_adv = Vec::new();
         for (j, &r) in batch.iter().enumerate() {
             h0.extend_from_slice(&ro.h0[r * hsz..][..hsz]);
             for t in 0..t_len {
@@ -106,8 +105,11 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
                     if c.entropy_normalized {
                         ent_weight.push(1.0 / (ro.legal[i] as f32).ln());
                     }
-                    if c.end_entropy_coef > 0.0 {
+                    if c.end_entropy_coef > 0.0 || c.end_lookahead > 0.0 {
                         end_legal.push(ro.masks[i * na + END]);
+                    }
+                    if c.end_lookahead > 0.0 {
+                        end_adv.push((ro.end_rewards[i] - ro.values[i]) * ro.masks[i * na + END]);
                     }
                 }
             }
@@ -150,13 +152,25 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
             let mask = tensor2(masks, [n, na], d);
             let log_probs = masked_log_softmax(logits, mask.clone());
             let logp = chosen_log_prob(log_probs.clone(), tensor2(one_hot, [n, na], d));
+            let rows_with_end = end_legal.iter().sum::<f32>().max(1.0);
             let end_bonus = if c.end_entropy_coef > 0.0 {
-                let rows_with_end = end_legal.iter().sum::<f32>().max(1.0);
                 (binary_entropy(log_probs.clone(), END) * tensor1(end_legal, d)).sum()
                     / rows_with_end
                     * c.end_entropy_coef
             } else {
                 Tensor::<1>::zeros([1], d).sum()
+            };
+            // The exact END term: its expected policy gradient at every state where END is
+            // legal, −mean π(END|s)·(R_END(s) − V(s)), subtracted from the bonus side.
+            let end_bonus = if c.end_lookahead > 0.0 {
+                let p_end = log_probs
+                    .clone()
+                    .narrow(1, END, 1)
+                    .squeeze_dim::<1>(1)
+                    .exp();
+                end_bonus + (p_end * tensor1(end_adv, d)).sum() / rows_with_end * c.end_lookahead
+            } else {
+                end_bonus
             };
             let row_entropy = entropy(log_probs, mask);
             let ent = if c.entropy_normalized {

@@ -12,6 +12,9 @@ use rand_chacha::ChaCha8Rng;
 use yokai_engine::MetricsAccumulator;
 use yokai_vec::episode_seed;
 
+/// The action index of END (RULES.md §3).
+pub(super) const END: usize = 1;
+
 /// One rollout, time-major (`[T, rows, …]`), as learning reads it.
 pub(super) struct Rollout {
     pub obs: Vec<f32>,
@@ -33,6 +36,9 @@ pub(super) struct Rollout {
     pub entropy: f64,
     /// Net change in clustered colours paid by the clustering shaping, unweighted.
     pub cluster_reward: f64,
+    /// With `end_lookahead`: per row and step, what END would pay in the row's game at that
+    /// step (`[T × rows]`; meaningful where the row's mask allows END). Empty when off.
+    pub end_rewards: Vec<f32>,
 }
 
 impl<E: Encoder, M: Memory> Trainer<E, M> {
@@ -73,6 +79,12 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
             Vec::new()
         };
         let mut cluster_reward = 0f64;
+        let lookahead = c.end_lookahead > 0.0;
+        let mut end_rewards = if lookahead {
+            vec![0f32; t_len * rows]
+        } else {
+            Vec::new()
+        };
         let h0 = self.state.hidden.clone();
         let net = self.model.valid();
         let dev = self.infer_device.clone();
@@ -96,6 +108,14 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
             let logits = to_vec(out.logits);
             values[t * rows..][..rows].copy_from_slice(&to_vec(out.values));
             let acting = self.env.acting_seats().to_vec();
+            if lookahead {
+                for (i, &seat) in acting.iter().enumerate() {
+                    let r = i * p + seat as usize;
+                    if m[r * na + END] > 0.5 {
+                        end_rewards[t * rows + r] = self.env.game(i).end_reward() as f32;
+                    }
+                }
+            }
             for r in 0..rows {
                 let u = (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
                 let (a, lp, h) = sample_row(&logits[r * na..][..na], &m[r * na..][..na], u, false);
@@ -184,6 +204,7 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
                 0.0
             },
             cluster_reward,
+            end_rewards,
         })
     }
 }
