@@ -17,7 +17,7 @@
 //!   the cell);
 //! - OBSERVE y: a linear score of `r_y`; PLACE h on y: `a_h · b_y`;
 //! - NOOP, END and REVEAL: a linear map of the GRU state. (Adding the mean and maximum of
-//!   the card embeddings `r` to its input measured worse on `quick`: docs/training.md.)
+//!   the card embeddings `r` to its input did not help on `quick`: docs/training.md.)
 //!
 //! The card positions are read from the graph node features (row and column channels), so
 //! the head follows Other-Play's rotated views without knowing about them.
