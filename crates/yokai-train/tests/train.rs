@@ -408,7 +408,8 @@ fn p_end_at_start(t: &Trainer<MlpEncoder>, n: usize) -> f32 {
         Tensor::from_data(TensorData::new(masks, [n, na]), &dev),
     );
     let v: Vec<f32> = lp.into_data().convert::<f32>().try_into_vec().unwrap();
-    (0..n).map(|i| v[i * na + 1].exp()).sum::<f32>() / n as f32
+    let end = game_config.encode(yokai_engine::Action::End);
+    (0..n).map(|i| v[i * na + end].exp()).sum::<f32>() / n as f32
 }
 
 #[test]

@@ -23,7 +23,7 @@
 //! the head follows Other-Play's rotated views without knowing about them.
 
 use crate::init::Init;
-use burn::module::Module;
+use burn::module::{Module, Param};
 use burn::nn::Linear;
 use burn::prelude::*;
 use burn::tensor::activation::relu;
@@ -44,8 +44,8 @@ pub struct PointerHead {
     /// MOVE: query of the moving card, key of each card around the target cell.
     move_query: Linear,
     move_key: Linear,
-    /// A learnt embedding per cell: its weight `[g², WIDTH]` is read as a table.
-    cell: Linear,
+    /// A learnt embedding per cell, `[g², WIDTH]`.
+    cell: Param<Tensor<2>>,
     /// OBSERVE: one score per card.
     observe: Linear,
     /// PLACE: query of the hint slot, key of the card.
@@ -81,7 +81,10 @@ impl PointerHead {
             message: init.linear(WIDTH, WIDTH, 1.0, device),
             move_query: init.linear(WIDTH, WIDTH, gain, device),
             move_key: init.linear(WIDTH, WIDTH, 1.0, device),
-            cell: init.linear(g * g, WIDTH, 1.0, device),
+            cell: Param::from_tensor(Tensor::from_data(
+                TensorData::new(init.orthogonal(g * g, WIDTH, 1.0), [g * g, WIDTH]),
+                device,
+            )),
             observe: init.linear(WIDTH, 1, gain, device),
             hint_query: init.linear(WIDTH, WIDTH, gain, device),
             hint_key: init.linear(WIDTH, WIDTH, 1.0, device),
@@ -124,7 +127,7 @@ impl PointerHead {
         let q = self.move_query.forward(cards.clone());
         let k = self.move_key.forward(cards.clone());
         // Keys of the cells: their own embedding plus the keys of the cards around them.
-        let table: Tensor<3> = self.cell_table().unsqueeze_dim(0);
+        let table: Tensor<3> = self.cell.val().unsqueeze_dim(0);
         let cell_keys =
             near.clone().swap_dims(1, 2).matmul(k.clone()) + table.expand([b, cells, WIDTH]);
         // A card moved next to its old cell would count itself as a neighbour: remove it.
@@ -179,11 +182,6 @@ impl PointerHead {
             .reshape([b, y, cells]);
         (on, near)
     }
-
-    /// The cell embeddings `[g², WIDTH]`.
-    fn cell_table(&self) -> Tensor<2> {
-        self.cell.weight.val()
-    }
 }
 
 /// `[g², g²]`: 1 where two cells of the g×g board are 4-neighbours.
@@ -218,7 +216,7 @@ mod tests {
     use crate::network::{ActorCritic, GruCell, MlpEncoder};
     use rand_chacha::rand_core::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
-    use yokai_engine::{Card, Game, Part, Seat};
+    use yokai_engine::{Action, Card, Cell, Game, Part, Seat};
 
     fn to_vec<const D: usize>(t: Tensor<D>) -> Vec<f32> {
         t.into_data()
@@ -299,9 +297,9 @@ mod tests {
         let mut changed = x.clone();
         changed[8 * f + ch.known] = 1.0 - changed[8 * f + ch.known];
         let after = logits(&changed);
-        let g = game_config.grid();
-        let mv =
-            |card: usize, r: usize, c: usize| 2 + game_config.cards() + card * g * g + r * g + c;
+        let mv = |card: u8, r: usize, c: usize| {
+            game_config.encode(Action::Move(Card(card), Cell::new(r, c)))
+        };
         assert_ne!(base[mv(0, 5, 6)], after[mv(0, 5, 6)]);
         assert_eq!(base[mv(0, 2, 3)], after[mv(0, 2, 3)]);
     }

@@ -2,7 +2,7 @@
 //! replayed from the state stored at the rollout's start; the clipped policy and value
 //! losses, the entropy bonus, the global gradient-norm clip and the Adam step.
 
-use super::rollout::{Rollout, END};
+use super::rollout::Rollout;
 use super::{tensor1, tensor2, Trainer};
 use crate::distribution::{binary_entropy, chosen_log_prob, entropy, masked_log_softmax};
 use crate::network::{Encoder, Memory};
@@ -12,6 +12,7 @@ use burn::prelude::*;
 use burn::tensor::TensorData;
 use rand_chacha::rand_core::Rng;
 use rand_chacha::ChaCha8Rng;
+use yokai_engine::Action;
 
 /// What the epochs of one update report.
 pub(super) struct Losses {
@@ -67,6 +68,7 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
         let hsz = self.model.hidden_size();
         let t_len = c.rollout_steps;
         let bm = batch.len();
+        let end = self.game.encode(Action::End);
         let mut obs = Vec::with_capacity(bm * t_len * l);
         let mut keep = Vec::with_capacity(bm * t_len);
         let mut old_v = Vec::with_capacity(bm * t_len);
@@ -106,10 +108,10 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
                         ent_weight.push(1.0 / (ro.legal[i] as f32).ln());
                     }
                     if c.end_entropy_coef > 0.0 || c.end_lookahead > 0.0 {
-                        end_legal.push(ro.masks[i * na + END]);
+                        end_legal.push(ro.masks[i * na + end]);
                     }
                     if c.end_lookahead > 0.0 {
-                        end_adv.push((ro.end_rewards[i] - ro.values[i]) * ro.masks[i * na + END]);
+                        end_adv.push((ro.end_rewards[i] - ro.values[i]) * ro.masks[i * na + end]);
                     }
                 }
             }
@@ -153,25 +155,23 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
             let log_probs = masked_log_softmax(logits, mask.clone());
             let logp = chosen_log_prob(log_probs.clone(), tensor2(one_hot, [n, na], d));
             let rows_with_end = end_legal.iter().sum::<f32>().max(1.0);
-            let end_bonus = if c.end_entropy_coef > 0.0 {
-                (binary_entropy(log_probs.clone(), END) * tensor1(end_legal, d)).sum()
-                    / rows_with_end
-                    * c.end_entropy_coef
-            } else {
-                Tensor::<1>::zeros([1], d).sum()
-            };
-            // The exact END term: its expected policy gradient at every state where END is
-            // legal, −mean π(END|s)·(R_END(s) − V(s)), subtracted from the bonus side.
-            let end_bonus = if c.end_lookahead > 0.0 {
+            // The END terms, averaged over the rows where END is legal: the entropy of
+            // END-or-not, and the exact END term, the expected policy gradient of END,
+            // π(END|s)·(R_END(s) − V(s)), at every such state.
+            let mut end_bonus = Tensor::<1>::zeros([1], d).sum();
+            if c.end_entropy_coef > 0.0 {
+                let h = binary_entropy(log_probs.clone(), end) * tensor1(end_legal, d);
+                end_bonus = end_bonus + h.sum() / rows_with_end * c.end_entropy_coef;
+            }
+            if c.end_lookahead > 0.0 {
                 let p_end = log_probs
                     .clone()
-                    .narrow(1, END, 1)
+                    .narrow(1, end, 1)
                     .squeeze_dim::<1>(1)
                     .exp();
-                end_bonus + (p_end * tensor1(end_adv, d)).sum() / rows_with_end * c.end_lookahead
-            } else {
-                end_bonus
-            };
+                let gain = (p_end * tensor1(end_adv, d)).sum();
+                end_bonus = end_bonus + gain / rows_with_end * c.end_lookahead;
+            }
             let row_entropy = entropy(log_probs, mask);
             let ent = if c.entropy_normalized {
                 (row_entropy * tensor1(ent_weight, d)).mean()

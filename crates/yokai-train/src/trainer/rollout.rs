@@ -9,11 +9,8 @@ use crate::network::{Encoder, Memory};
 use burn::module::Module;
 use rand_chacha::rand_core::Rng;
 use rand_chacha::ChaCha8Rng;
-use yokai_engine::MetricsAccumulator;
+use yokai_engine::{Action, MetricsAccumulator};
 use yokai_vec::episode_seed;
-
-/// The action index of END (RULES.md §3).
-pub(super) const END: usize = 1;
 
 /// One rollout, time-major (`[T, rows, …]`), as learning reads it.
 pub(super) struct Rollout {
@@ -80,6 +77,7 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
         };
         let mut cluster_reward = 0f64;
         let lookahead = c.end_lookahead > 0.0;
+        let end = self.game.encode(Action::End);
         let mut end_rewards = if lookahead {
             vec![0f32; t_len * rows]
         } else {
@@ -111,7 +109,7 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
             if lookahead {
                 for (i, &seat) in acting.iter().enumerate() {
                     let r = i * p + seat as usize;
-                    if m[r * na + END] > 0.5 {
+                    if m[r * na + end] > 0.5 {
                         end_rewards[t * rows + r] = self.env.game(i).end_reward() as f32;
                     }
                 }
