@@ -53,6 +53,12 @@ pub struct Args {
     /// Override the config's total environment steps.
     #[arg(long)]
     steps: Option<u64>,
+    /// Start each new run from the weights of a trained policy (fine-tuning, curricula):
+    /// a policy file, a checkpoint, a run directory, or a directory of `seed-N` runs (seed
+    /// N then starts from `seed-N`). The network and game must match the config's; the
+    /// optimiser and schedules start anew. Sets the config's `run.init_from`.
+    #[arg(long, value_name = "PATH", conflicts_with = "resume")]
+    init_from: Option<PathBuf>,
     /// Games per pair in the evaluation after training; 0 skips it.
     #[arg(long, default_value_t = 1_000)]
     eval_games: u64,
@@ -138,7 +144,16 @@ pub fn run(args: Args) -> Result<(), String> {
             }
             c
         } else {
-            config.clone()
+            let mut c = config.clone();
+            if let Some(from) = &args.init_from {
+                let per_seed = from.join(format!("seed-{seed}"));
+                c.run.init_from = Some(if per_seed.is_dir() {
+                    per_seed
+                } else {
+                    from.clone()
+                });
+            }
+            c
         };
         let total = run_config.updates();
         let bar = ProgressBar::new(total).with_style(

@@ -226,6 +226,34 @@ fn train_then_eval_a_run_directory() {
     assert!(text(&out).contains("already holds a run"), "{}", text(&out));
     let out = yokai(&[&args[..], &["--resume"]].concat());
     assert!(out.status.success(), "{}", text(&out));
+
+    // --init-from a directory of seeds: seed N of the new runs starts from its seed-N.
+    let tuned = dir.join("tuned");
+    let args = [
+        "train",
+        config.to_str().unwrap(),
+        "--seeds",
+        "0..2",
+        "--out",
+        tuned.to_str().unwrap(),
+        "--eval-games",
+        "0",
+        "--init-from",
+        out_dir.to_str().unwrap(),
+    ];
+    let out = yokai(&args);
+    assert!(out.status.success(), "{}", text(&out));
+    for seed in 0..2 {
+        let saved =
+            std::fs::read_to_string(tuned.join(format!("seed-{seed}/config.toml"))).unwrap();
+        let from = out_dir.join(format!("seed-{seed}"));
+        assert!(
+            saved.contains(&format!("init_from = \"{}\"", from.display())),
+            "{saved}"
+        );
+    }
+    let out = yokai(&[&args[..], &["--resume"]].concat());
+    assert!(text(&out).contains("cannot be used with"), "{}", text(&out));
 }
 
 #[test]

@@ -60,6 +60,21 @@ pub enum NetworkPreset {
     Compact,
 }
 
+/// How `ppo.end_lookahead` turns "what END would pay" into a gradient on the END logit.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum EndForm {
+    /// The expected policy gradient of END, −π(END|s)·(R_END(s) − V(s)). Its gradient on the
+    /// END logit carries a factor π(END)(1 − π(END)), so it fades once P(END) is tiny.
+    #[default]
+    Expected,
+    /// The same advantage on the END-or-not log-odds, −(R_END(s) − V(s))·logit(END|s): the
+    /// natural gradient of the binary choice, which does not fade with P(END). The push
+    /// stops once the log-odds pass ±8 in its direction (P(END) 0.03 % or 99.97 %), so states where
+    /// ending never pays do not drive the logit without bound.
+    Natural,
+}
+
 /// How the actor turns the GRU state into action logits.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -128,12 +143,21 @@ pub struct PpoConfig {
     /// not only where END was drawn. A centralised-training signal (the policy still acts
     /// on its own view); 0 (the paper's presets) turns it off.
     pub end_lookahead: f32,
+    /// Which gradient `end_lookahead` adds (see [`EndForm`]); the paper's presets leave
+    /// `end_lookahead` at 0, where this does nothing.
+    pub end_lookahead_form: EndForm,
     /// Global gradient-norm clip.
     pub max_grad_norm: f32,
     pub epochs: usize,
     pub minibatches: usize,
-    /// Weight of the shaping reward at the start; annealed linearly to 0 over the run.
+    /// Weight of the shaping reward at the start; annealed linearly to 0 over the first
+    /// `shaping_fraction` of the run.
     pub shaping: f32,
+    /// Share of the run, in (0, 1], over which the shaping weight falls to 0 (1 = the whole
+    /// run, the paper's). The shaping pays for observing and hinting, so while it lasts
+    /// every value V(s) counts future shaping that ending forfeits, and END looks worse
+    /// than it is; a shorter anneal lets the late run value END by the game's reward alone.
+    pub shaping_fraction: f32,
     /// Normalise advantages inside each minibatch (as JaxMARL's IPPO does).
     pub normalize_advantages: bool,
     /// Weight of a clustering shaping reward, annealed with `shaping`: each step that is
@@ -153,6 +177,13 @@ pub struct RunConfig {
     pub log_every: u64,
     /// Worker threads for the environments and the CPU backend; 0 = one per core.
     pub threads: usize,
+    /// Start the network from the parameters of this policy file, checkpoint or run
+    /// directory (fine-tuning, curricula) instead of a fresh initialisation; the network
+    /// settings and the game must match it. Only the weights are taken: the optimiser, the
+    /// step count and the schedules start anew. A relative path is read from the directory
+    /// `yokai train` runs in.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub init_from: Option<std::path::PathBuf>,
 }
 
 impl Default for TrainConfig {
@@ -207,10 +238,12 @@ impl Default for PpoConfig {
             entropy_normalized: false,
             end_entropy_coef: 0.0,
             end_lookahead: 0.0,
+            end_lookahead_form: EndForm::Expected,
             max_grad_norm: 0.5,
             epochs: 4,
             minibatches: 4,
             shaping: 1.0,
+            shaping_fraction: 1.0,
             normalize_advantages: true,
             cluster_shaping: 0.0,
         }
@@ -223,6 +256,7 @@ impl Default for RunConfig {
             checkpoint_every: 50,
             log_every: 1,
             threads: 0,
+            init_from: None,
         }
     }
 }
@@ -331,6 +365,9 @@ impl TrainConfig {
         if !(p.end_lookahead >= 0.0 && p.end_lookahead.is_finite()) {
             return bad("ppo.end_lookahead", "must be a number ≥ 0");
         }
+        if !(p.shaping_fraction > 0.0 && p.shaping_fraction <= 1.0) {
+            return bad("ppo.shaping_fraction", "must lie in (0, 1]");
+        }
         if !(p.end_entropy_coef >= 0.0 && p.end_entropy_coef.is_finite()) {
             return bad("ppo.end_entropy_coef", "must be a number ≥ 0");
         }
@@ -376,6 +413,8 @@ mod tests {
         assert_eq!(c.network.head, ActionHead::Dense);
         assert_eq!(c.ppo.end_entropy_coef, 0.0);
         assert_eq!(c.ppo.end_lookahead, 0.0);
+        assert_eq!(c.ppo.end_lookahead_form, EndForm::Expected);
+        assert_eq!(c.ppo.shaping_fraction, 1.0);
         assert_eq!(c.ppo.cluster_shaping, 0.0);
         assert!(!c.ppo.entropy_normalized);
     }
@@ -404,6 +443,16 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("game"), "{e}");
+        for bad in ["0.0", "1.5", "-0.1", "nan"] {
+            let e = TrainConfig::from_toml_str(&format!("[ppo]\nshaping_fraction = {bad}\n"), "x")
+                .unwrap_err()
+                .to_string();
+            assert!(e.contains("ppo.shaping_fraction"), "{bad}: {e}");
+        }
+        let e = TrainConfig::from_toml_str("[ppo]\nend_lookahead_form = \"fast\"\n", "x")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("fast") && e.contains("natural"), "{e}");
     }
 
     #[test]

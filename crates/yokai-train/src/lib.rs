@@ -14,7 +14,7 @@ pub mod network;
 pub mod trainer;
 
 pub use backend::{Backend, BackendError};
-pub use config::{ActionHead, NetworkPreset, SymmetrySet, TrainConfig, TrainConfigError};
+pub use config::{ActionHead, EndForm, NetworkPreset, SymmetrySet, TrainConfig, TrainConfigError};
 pub use file::{Container, FileError};
 pub use network::{ActorCritic, CnnEncoder, Encoder, GruCell, Memory, MlpEncoder};
 pub use trainer::{default_device, FileHeader, TrainError, Trainer, UpdateStats};

@@ -22,6 +22,21 @@ enum Net {
     Compact(Box<ActorCritic<MlpEncoder, GruCell>>),
 }
 
+/// The file a policy path names: `path` itself, or for a run directory its `policy.ykp`,
+/// else its checkpoint.
+pub(crate) fn policy_file(path: &Path) -> PathBuf {
+    if path.is_dir() {
+        let policy = path.join(POLICY);
+        if policy.exists() {
+            policy
+        } else {
+            path.join(CHECKPOINT)
+        }
+    } else {
+        path.to_path_buf()
+    }
+}
+
 /// A trained network loaded from disk, ready to be seated any number of times.
 #[derive(Clone, Debug)]
 pub struct TrainedPolicy {
@@ -36,16 +51,7 @@ impl TrainedPolicy {
     /// Load `path`: a policy file, a checkpoint, or a run directory (its `policy.ykp`, else
     /// its checkpoint).
     pub fn load(path: &Path) -> Result<TrainedPolicy, TrainError> {
-        let file_path = if path.is_dir() {
-            let policy = path.join(POLICY);
-            if policy.exists() {
-                policy
-            } else {
-                path.join(CHECKPOINT)
-            }
-        } else {
-            path.to_path_buf()
-        };
+        let file_path = policy_file(path);
         let file = Container::read(&file_path)?;
         let header = read_header(&file, &file_path)?;
         let shown = file_path.display().to_string();

@@ -479,3 +479,76 @@ fn the_end_lookahead_term_follows_what_ending_would_pay() {
     let e = c.validate("cfg").unwrap_err().to_string();
     assert!(e.contains("ppo.end_lookahead"), "{e}");
 }
+
+#[test]
+fn the_shaping_anneals_over_the_share_of_the_run_it_is_given() {
+    let weights = |fraction: f32| {
+        let mut c = tiny(SymmetrySet::None, 4);
+        c.ppo.shaping = 2.0;
+        c.ppo.shaping_fraction = fraction;
+        let mut t = Trainer::<MlpEncoder>::new(c, 1).unwrap();
+        (0..4)
+            .map(|_| t.update().unwrap().shaping)
+            .collect::<Vec<f64>>()
+    };
+    // Update k of 4 trains with weight 2·(1 − (k/4)/fraction), never below 0.
+    assert_eq!(weights(1.0), vec![2.0, 1.5, 1.0, 0.5]);
+    assert_eq!(weights(0.5), vec![2.0, 1.0, 0.0, 0.0]);
+}
+
+#[test]
+fn a_run_can_start_from_a_trained_policy_and_resumes_without_it() {
+    let dir = tempdir("init");
+    let first = tiny(SymmetrySet::None, 2);
+    let source = one_thread(|| {
+        let mut t = Trainer::<MlpEncoder>::new(first.clone(), 3).unwrap();
+        t.update().unwrap();
+        t.update().unwrap();
+        t.policy().write_atomic(&dir.join("policy.ykp")).unwrap();
+        t.parameters()
+    });
+    // Another seed and schedule, the same network: it starts from the policy's weights.
+    let mut second = tiny(SymmetrySet::Both, 3);
+    second.ppo.lr = 3e-4;
+    second.run.init_from = Some(dir.join("policy.ykp"));
+    let t = Trainer::<MlpEncoder>::new(second.clone(), 8).unwrap();
+    assert_eq!(t.parameters(), source);
+    assert_eq!(t.update_count(), 0, "only the weights are taken");
+    let fresh = Trainer::<MlpEncoder>::new(tiny(SymmetrySet::Both, 3), 8).unwrap();
+    assert_ne!(fresh.parameters(), source);
+    // The run directory records where it started; a resume reads its own checkpoint, so it
+    // works after the source is gone.
+    let run = dir.join("seed-8");
+    let request = |resume| RunRequest {
+        config: &second,
+        seed: 8,
+        dir: &run,
+        resume,
+        max_updates: Some(1),
+        backend: yokai_train::Backend::Cpu,
+    };
+    train_run(&request(false), &mut |_, _| {}).unwrap();
+    let saved = TrainConfig::from_file(&run.join("config.toml")).unwrap();
+    assert_eq!(saved.run.init_from, Some(dir.join("policy.ykp")));
+    std::fs::remove_file(dir.join("policy.ykp")).unwrap();
+    let summary = train_run(&request(true), &mut |_, _| {}).unwrap();
+    assert_eq!(summary.updates, 2);
+    // A different network or game is refused with the field and the file named.
+    let mut wider = second.clone();
+    wider.network.hidden = 32;
+    wider.run.init_from = Some(run.clone());
+    let e = err(Trainer::<MlpEncoder>::new(wider, 0));
+    assert!(e.contains("run.init_from") && e.contains("network"), "{e}");
+    let mut other_game = second.clone();
+    other_game.game = "9c-3p-perfect".into();
+    other_game.run.init_from = Some(run.clone());
+    let e = err(Trainer::<MlpEncoder>::new(other_game, 0));
+    assert!(
+        e.contains("run.init_from") && e.contains("was trained on"),
+        "{e}"
+    );
+    let mut missing = second;
+    missing.run.init_from = Some(dir.join("nowhere.ykp"));
+    let e = err(Trainer::<MlpEncoder>::new(missing, 0));
+    assert!(e.contains("nowhere.ykp"), "{e}");
+}

@@ -11,6 +11,7 @@ use burn::store::ModuleRecord;
 use burn::tensor::Bytes;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
+use yokai_engine::Config;
 
 /// What the header of a checkpoint or policy file says.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -129,7 +130,7 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
                 message: format!("holds a {:?} network", config.network.preset),
             });
         }
-        let mut trainer = Trainer::<E, M>::new_on(config, header.seed, infer_device)?;
+        let mut trainer = Trainer::<E, M>::fresh(config, header.seed, infer_device)?;
         let shown = path.display().to_string();
         trainer.model = load_model(trainer.model, file.section(path, "model")?, &shown)?;
         let optim = file.section(path, "optimizer")?.to_vec();
@@ -190,6 +191,39 @@ pub(crate) fn load_model<M: Module>(model: M, bytes: &[u8], path: &str) -> Resul
             path: path.to_string(),
             message: e.to_string(),
         })
+}
+
+/// `model` with the parameters of the policy file, checkpoint or run directory `path`
+/// (`run.init_from`), which must hold the same network for the same game.
+pub(super) fn initial_weights<M: Module>(
+    model: M,
+    path: &Path,
+    config: &TrainConfig,
+    game: &Config,
+) -> Result<M, TrainError> {
+    let file_path = crate::policy::policy_file(path);
+    let shown = file_path.display().to_string();
+    let mismatch = |message: String| TrainError::Mismatch {
+        path: format!("run.init_from {shown}"),
+        message,
+    };
+    let file = Container::read(&file_path)?;
+    let header = read_header(&file, &file_path)?;
+    let theirs = TrainConfig::from_toml_str(&header.train_config, &shown)?;
+    if theirs.network != config.network {
+        return Err(mismatch(format!(
+            "holds a different network ({:?}) from this config's ({:?})",
+            theirs.network, config.network
+        )));
+    }
+    let their_game = Config::from_toml_str(&header.game, &shown)
+        .map_err(|e| mismatch(format!("game config: {e}")))?;
+    if their_game != *game {
+        return Err(mismatch(format!(
+            "was trained on {their_game}, this config plays {game}"
+        )));
+    }
+    load_model(model, file.section(&file_path, "model")?, &shown)
 }
 
 /// Every float parameter of a module, flattened in visiting order.

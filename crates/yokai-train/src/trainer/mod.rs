@@ -163,6 +163,22 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
         seed: u64,
         infer_device: Device,
     ) -> Result<Trainer<E, M>, TrainError> {
+        let mut trainer = Trainer::fresh(config, seed, infer_device)?;
+        if let Some(path) = &trainer.config.run.init_from {
+            let model = trainer.model.clone();
+            trainer.model =
+                checkpoint::initial_weights(model, path, &trainer.config, &trainer.game)?;
+        }
+        Ok(trainer)
+    }
+
+    /// A run of `config` with freshly initialised weights (`run.init_from` not applied:
+    /// a resumed run takes its weights from its checkpoint).
+    fn fresh(
+        config: TrainConfig,
+        seed: u64,
+        infer_device: Device,
+    ) -> Result<Trainer<E, M>, TrainError> {
         config.validate("config")?;
         let game = config.game_config()?;
         let device = infer_device.clone().autodiff();
@@ -340,7 +356,8 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
         let c = self.config.ppo.clone();
         let frac = 1.0 - self.progress();
         let lr = if c.anneal_lr { c.lr * frac } else { c.lr };
-        let shaping = c.shaping as f64 * frac;
+        let shaping =
+            c.shaping as f64 * (1.0 - self.progress() / c.shaping_fraction as f64).max(0.0);
         // One generator per update serves the action draws, then the minibatch order.
         let mut rng = ChaCha8Rng::seed_from_u64(derive_seed(self.seed, self.state.update));
         let rollout = self.collect(shaping, &mut rng)?;

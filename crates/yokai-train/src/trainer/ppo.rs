@@ -4,6 +4,7 @@
 
 use super::rollout::Rollout;
 use super::{tensor1, tensor2, Trainer};
+use crate::config::EndForm;
 use crate::distribution::{binary_entropy, chosen_log_prob, entropy, masked_log_softmax};
 use crate::network::{Encoder, Memory};
 use burn::module::{Module, ModuleMapper, ModuleVisitor, Param};
@@ -164,13 +165,13 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
                 end_bonus = end_bonus + h.sum() / rows_with_end * c.end_entropy_coef;
             }
             if c.end_lookahead > 0.0 {
-                let p_end = log_probs
-                    .clone()
-                    .narrow(1, end, 1)
-                    .squeeze_dim::<1>(1)
-                    .exp();
-                let gain = (p_end * tensor1(end_adv, d)).sum();
-                end_bonus = end_bonus + gain / rows_with_end * c.end_lookahead;
+                let log_p_end = log_probs.clone().narrow(1, end, 1).squeeze_dim::<1>(1);
+                let end_adv = tensor1(end_adv, d);
+                let gain = match c.end_lookahead_form {
+                    EndForm::Expected => log_p_end.exp() * end_adv,
+                    EndForm::Natural => natural_end_gain(log_p_end, end_adv),
+                };
+                end_bonus = end_bonus + gain.sum() / rows_with_end * c.end_lookahead;
             }
             let row_entropy = entropy(log_probs, mask);
             let ent = if c.entropy_normalized {
@@ -199,6 +200,26 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
             replay_error,
         )
     }
+}
+
+/// Beyond these log-odds of END (P(END) 0.03 % or 99.97 %) the natural END term stops
+/// pushing further in the same direction: a state where ending never pays would otherwise
+/// drive its END logit down without bound.
+const END_LOGIT_BOUND: f32 = 8.0;
+
+/// The natural-gradient END term per row: (R_END − V)·logit(END), where logit is the log-odds
+/// of END against every other legal action, with the advantage zeroed where the log-odds
+/// already lie beyond ±`END_LOGIT_BOUND` in its direction. Its gradient on the log-odds is
+/// the advantage itself, whatever P(END) is (the expected form's carries P(END)(1−P(END))).
+fn natural_end_gain(log_p_end: Tensor<1>, end_adv: Tensor<1>) -> Tensor<1> {
+    // log(1 − p) with p < 1 kept away from 1 so the log-odds stay finite.
+    let log_rest = log_p_end.clone().exp().clamp_max(1.0 - 1e-6).neg().log1p();
+    let log_odds = log_p_end - log_rest;
+    let current = log_odds.clone().detach();
+    let push_up =
+        end_adv.clone().clamp_min(0.0) * current.clone().lower_elem(END_LOGIT_BOUND).float();
+    let push_down = end_adv.neg().clamp_min(0.0) * current.greater_elem(-END_LOGIT_BOUND).float();
+    log_odds * (push_up - push_down)
 }
 
 /// Scale all gradients together so that their global L2 norm is at most `max_norm`.
@@ -238,5 +259,50 @@ fn clip_global_norm<M: Module>(model: &M, grads: &mut GradientsParams, max_norm:
             factor: max_norm / (total + 1e-6),
         };
         let _ = model.clone().map(&mut scale);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The natural END term's gradient on the END log-odds is the advantage itself, whatever
+    /// P(END) is, and nothing once the log-odds lie beyond the bound in the advantage's
+    /// direction.
+    #[test]
+    fn the_natural_end_term_pushes_the_log_odds_by_the_advantage_up_to_the_bound() {
+        // (log-odds of END, advantage, expected gradient on the log-odds)
+        let cases: [(f32, f32, f32); 8] = [
+            (-9.0, -3.0, 0.0), // already below −8: no further push down
+            (-9.0, 2.0, 2.0),  // but pushed up at full strength where ending pays
+            (-4.0, -3.0, -3.0),
+            (0.0, -3.0, -3.0),
+            (0.0, 5.0, 5.0),
+            (3.0, 0.0, 0.0),
+            (9.0, 2.0, 0.0), // already above +8: no further push up
+            (9.0, -3.0, -3.0),
+        ];
+        let dev = Device::flex().autodiff();
+        let p: Vec<f32> = cases.iter().map(|c| 1.0 / (1.0 + (-c.0).exp())).collect();
+        let log_p: Vec<f32> = p.iter().map(|p| p.ln()).collect();
+        let adv: Vec<f32> = cases.iter().map(|c| c.1).collect();
+        let log_p_end = tensor1(log_p, &dev).require_grad();
+        let gain = natural_end_gain(log_p_end.clone(), tensor1(adv, &dev)).sum();
+        let grads = gain.backward();
+        let g: Vec<f32> = log_p_end
+            .grad(&grads)
+            .unwrap()
+            .into_data()
+            .convert::<f32>()
+            .try_into_vec()
+            .unwrap();
+        for (i, &(x, a, want)) in cases.iter().enumerate() {
+            // d log-odds / d log p = 1 / (1 − p): undo it to read the log-odds' gradient.
+            let on_log_odds = g[i] * (1.0 - p[i]);
+            assert!(
+                (on_log_odds - want).abs() < 0.01 * want.abs().max(1.0),
+                "log-odds {x}, advantage {a}: gradient {on_log_odds}, want {want}"
+            );
+        }
     }
 }
