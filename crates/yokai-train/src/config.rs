@@ -68,11 +68,13 @@ pub enum EndForm {
     /// END logit carries a factor π(END)(1 − π(END)), so it fades once P(END) is tiny.
     #[default]
     Expected,
-    /// The same advantage on the END-or-not log-odds, −(R_END(s) − V(s))·logit(END|s): the
-    /// natural gradient of the binary choice, which does not fade with P(END). The push
-    /// stops once the log-odds pass ±8 in its direction (P(END) 0.03 % or 99.97 %), so states where
-    /// ending never pays do not drive the logit without bound.
-    Natural,
+    /// A cross-entropy pulling P(END) towards σ((R_END(s) − V(s)) / ¼ point): about 1 where
+    /// ending pays a point or more beyond playing on, about 0 where it costs as much. Its
+    /// gradient on the END log-odds, σ(…) − P(END), does not fade with P(END), and it is at
+    /// most 1 per state whatever the size of the advantage, so it never outweighs the rest
+    /// of the loss. Under partial observability P(END | history) settles at the mean target
+    /// over the boards the history allows: the agent ends when it is likely to pay.
+    Target,
 }
 
 /// How the actor turns the GRU state into action logits.

@@ -6,7 +6,7 @@ use yokai_agents::Policy;
 use yokai_engine::Part;
 use yokai_train::file::Container;
 use yokai_train::{
-    read_metrics, train_run, MlpEncoder, RunRequest, SymmetrySet, TrainConfig, TrainError,
+    read_metrics, train_run, EndForm, MlpEncoder, RunRequest, SymmetrySet, TrainConfig, TrainError,
     TrainedPolicy, Trainer,
 };
 
@@ -450,12 +450,13 @@ fn the_end_entropy_bonus_keeps_end_explored_and_is_off_at_zero() {
 
 #[test]
 fn the_end_lookahead_term_follows_what_ending_would_pay() {
-    let train = |coef: f32| {
+    let train_form = |coef: f32, form: EndForm| {
         one_thread(|| {
             let mut c = tiny(SymmetrySet::None, 8);
             c.ppo.lr = 0.03;
             c.ppo.anneal_lr = false;
             c.ppo.end_lookahead = coef;
+            c.ppo.end_lookahead_form = form;
             let mut t = Trainer::<MlpEncoder>::new(c, 4).unwrap();
             for _ in 0..8 {
                 t.update().unwrap();
@@ -463,17 +464,22 @@ fn the_end_lookahead_term_follows_what_ending_would_pay() {
             (p_end_at_start(&t, 64), t.parameters())
         })
     };
+    let train = |coef| train_form(coef, EndForm::Expected);
     let (off, on) = (train(0.0), train(10.0));
     assert_ne!(off.1, on.1, "the term changes the updates");
     // At a deal's first step, ending pays R −3.3 on average (−1 − unclustered colours; 3 %
     // of deals are dealt won), below what a young critic expects of playing on: the term
-    // pushes P(END) down there, far below where PPO alone leaves it.
-    assert!(
-        on.0 < off.0 * 0.5,
-        "P(END) at the first step: {} without the term, {} with it",
-        off.0,
-        on.0
-    );
+    // pushes P(END) down there, far below where PPO alone leaves it. So does the target
+    // form, whose target σ(R_END − V) is near 0 at those states.
+    let target = train_form(10.0, EndForm::Target);
+    assert_ne!(target.1, on.1, "the forms differ");
+    for (form, p) in [("expected", on.0), ("target", target.0)] {
+        assert!(
+            p < off.0 * 0.5,
+            "P(END) at the first step: {} without the term, {p} with the {form} form",
+            off.0,
+        );
+    }
     let mut c = tiny(SymmetrySet::None, 1);
     c.ppo.end_lookahead = -1.0;
     let e = c.validate("cfg").unwrap_err().to_string();

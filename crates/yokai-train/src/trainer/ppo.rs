@@ -156,12 +156,13 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
             let log_probs = masked_log_softmax(logits, mask.clone());
             let logp = chosen_log_prob(log_probs.clone(), tensor2(one_hot, [n, na], d));
             let rows_with_end = end_legal.iter().sum::<f32>().max(1.0);
+            let end_legal = tensor1(end_legal, d);
             // The END terms, averaged over the rows where END is legal: the entropy of
             // END-or-not, and the exact END term, the expected policy gradient of END,
             // π(END|s)·(R_END(s) − V(s)), at every such state.
             let mut end_bonus = Tensor::<1>::zeros([1], d).sum();
             if c.end_entropy_coef > 0.0 {
-                let h = binary_entropy(log_probs.clone(), end) * tensor1(end_legal, d);
+                let h = binary_entropy(log_probs.clone(), end) * end_legal.clone();
                 end_bonus = end_bonus + h.sum() / rows_with_end * c.end_entropy_coef;
             }
             if c.end_lookahead > 0.0 {
@@ -169,7 +170,7 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
                 let end_adv = tensor1(end_adv, d);
                 let gain = match c.end_lookahead_form {
                     EndForm::Expected => log_p_end.exp() * end_adv,
-                    EndForm::Natural => natural_end_gain(log_p_end, end_adv),
+                    EndForm::Target => end_target_gain(log_p_end, end_adv, end_legal),
                 };
                 end_bonus = end_bonus + gain.sum() / rows_with_end * c.end_lookahead;
             }
@@ -202,24 +203,20 @@ impl<E: Encoder, M: Memory> Trainer<E, M> {
     }
 }
 
-/// Beyond these log-odds of END (P(END) 0.03 % or 99.97 %) the natural END term stops
-/// pushing further in the same direction: a state where ending never pays would otherwise
-/// drive its END logit down without bound.
-const END_LOGIT_BOUND: f32 = 8.0;
+/// Temperature of the target form, in points of reward: σ(advantage / 0.25) is 0.98 where
+/// ending pays one point more than playing on and 6·10⁻⁶ where it costs three (a typical
+/// unwon board), so the target is close to "1 if ending pays" and adds no floor to P(END)
+/// where it does not (at one point, σ(−3) would keep P(END) at 5 % there).
+const END_TARGET_TEMPERATURE: f32 = 0.25;
 
-/// The natural-gradient END term per row: (R_END − V)·logit(END), where logit is the log-odds
-/// of END against every other legal action, with the advantage zeroed where the log-odds
-/// already lie beyond ±`END_LOGIT_BOUND` in its direction. Its gradient on the log-odds is
-/// the advantage itself, whatever P(END) is (the expected form's carries P(END)(1−P(END))).
-fn natural_end_gain(log_p_end: Tensor<1>, end_adv: Tensor<1>) -> Tensor<1> {
-    // log(1 − p) with p < 1 kept away from 1 so the log-odds stay finite.
+/// The target form's gain per row, t·log P(END) + (1 − t)·log(1 − P(END)) with
+/// t = σ((R_END − V) / `END_TARGET_TEMPERATURE`); `end_legal` (1 or 0 per row) keeps rows
+/// where END is illegal out.
+fn end_target_gain(log_p_end: Tensor<1>, end_adv: Tensor<1>, end_legal: Tensor<1>) -> Tensor<1> {
+    let target = burn::tensor::activation::sigmoid(end_adv / END_TARGET_TEMPERATURE);
+    // log(1 − p), with p kept below 1 so it stays finite.
     let log_rest = log_p_end.clone().exp().clamp_max(1.0 - 1e-6).neg().log1p();
-    let log_odds = log_p_end - log_rest;
-    let current = log_odds.clone().detach();
-    let push_up =
-        end_adv.clone().clamp_min(0.0) * current.clone().lower_elem(END_LOGIT_BOUND).float();
-    let push_down = end_adv.neg().clamp_min(0.0) * current.greater_elem(-END_LOGIT_BOUND).float();
-    log_odds * (push_up - push_down)
+    (target.clone() * log_p_end + (target.neg() + 1.0) * log_rest) * end_legal
 }
 
 /// Scale all gradients together so that their global L2 norm is at most `max_norm`.
@@ -266,28 +263,35 @@ fn clip_global_norm<M: Module>(model: &M, grads: &mut GradientsParams, max_norm:
 mod tests {
     use super::*;
 
-    /// The natural END term's gradient on the END log-odds is the advantage itself, whatever
-    /// P(END) is, and nothing once the log-odds lie beyond the bound in the advantage's
-    /// direction.
+    /// The target END term's gradient on the END log-odds is σ(advantage / T) − P(END): it does
+    /// not fade where P(END) is tiny, never exceeds 1 whatever the advantage, and rows where
+    /// END is illegal get none.
     #[test]
-    fn the_natural_end_term_pushes_the_log_odds_by_the_advantage_up_to_the_bound() {
-        // (log-odds of END, advantage, expected gradient on the log-odds)
-        let cases: [(f32, f32, f32); 8] = [
-            (-9.0, -3.0, 0.0), // already below −8: no further push down
-            (-9.0, 2.0, 2.0),  // but pushed up at full strength where ending pays
-            (-4.0, -3.0, -3.0),
-            (0.0, -3.0, -3.0),
-            (0.0, 5.0, 5.0),
-            (3.0, 0.0, 0.0),
-            (9.0, 2.0, 0.0), // already above +8: no further push up
-            (9.0, -3.0, -3.0),
+    fn the_end_target_pulls_the_log_odds_towards_sigmoid_of_the_advantage() {
+        let sig = |x: f32| 1.0 / (1.0 + (-x).exp());
+        // (log-odds of END, advantage)
+        let cases: [(f32, f32); 7] = [
+            (-9.0, -3.0), // ending loses, P(END) tiny already: almost no push
+            (-9.0, 12.0), // a won board with P(END) tiny: a full push up
+            (-4.0, -3.0),
+            (0.0, -3.0),
+            (0.0, 5.0),
+            (3.0, 0.5),
+            (9.0, 15.0),
         ];
         let dev = Device::flex().autodiff();
-        let p: Vec<f32> = cases.iter().map(|c| 1.0 / (1.0 + (-c.0).exp())).collect();
+        let p: Vec<f32> = cases.iter().map(|c| sig(c.0)).collect();
         let log_p: Vec<f32> = p.iter().map(|p| p.ln()).collect();
-        let adv: Vec<f32> = cases.iter().map(|c| c.1).collect();
+        let mut adv: Vec<f32> = cases.iter().map(|c| c.1).collect();
+        let mut log_p = log_p;
+        let mut legal = vec![1.0; cases.len()];
+        // One row where END is illegal: no gradient at all.
+        adv.push(4.0);
+        log_p.push(sig(0.0).ln());
+        legal.push(0.0);
         let log_p_end = tensor1(log_p, &dev).require_grad();
-        let gain = natural_end_gain(log_p_end.clone(), tensor1(adv, &dev)).sum();
+        let gain =
+            end_target_gain(log_p_end.clone(), tensor1(adv, &dev), tensor1(legal, &dev)).sum();
         let grads = gain.backward();
         let g: Vec<f32> = log_p_end
             .grad(&grads)
@@ -296,13 +300,17 @@ mod tests {
             .convert::<f32>()
             .try_into_vec()
             .unwrap();
-        for (i, &(x, a, want)) in cases.iter().enumerate() {
+        for (i, &(x, a)) in cases.iter().enumerate() {
             // d log-odds / d log p = 1 / (1 − p): undo it to read the log-odds' gradient.
             let on_log_odds = g[i] * (1.0 - p[i]);
+            let want = sig(a / END_TARGET_TEMPERATURE) - p[i];
             assert!(
-                (on_log_odds - want).abs() < 0.01 * want.abs().max(1.0),
+                (on_log_odds - want).abs() < 1e-3,
                 "log-odds {x}, advantage {a}: gradient {on_log_odds}, want {want}"
             );
+            assert!(on_log_odds.abs() <= 1.0);
         }
+        assert!(g[1] * (1.0 - p[1]) > 0.99, "full push at a won board");
+        assert_eq!(g[cases.len()], 0.0, "END illegal: no gradient");
     }
 }
