@@ -596,6 +596,10 @@ impl Game {
                     shaping += 1;
                 }
                 if self.placed as usize == self.config.hints() {
+                    // The last PLACE ends the placer's turn as well as the game (RULES §2):
+                    // with imperfect memory its final view no longer shows this turn's
+                    // colours (RULES §5). The seat to act stays the placer's.
+                    self.turn_observed = 0;
                     self.phase = Phase::Finished;
                 } else {
                     self.end_turn();

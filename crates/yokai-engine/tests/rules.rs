@@ -590,6 +590,47 @@ fn perfect_memory_keeps_colours_and_imperfect_forgets_them_when_the_turn_ends() 
 }
 
 #[test]
+fn the_last_place_ends_the_placers_turn_so_imperfect_memory_forgets() {
+    // 9c-2p has 4 hints: turns alternate REVEAL and PLACE, and the game ends on the PLACE of
+    // the 8th turn (seat 1's), right after seat 1 observed two cards in it.
+    for memory in [Memory::Perfect, Memory::Imperfect] {
+        let config = nine().with_memory(memory);
+        let mut game = Game::from_deal(config, &clustered_deal(&config)).unwrap();
+        let mut placed = 0;
+        for t in 0..8 {
+            game.apply(obs(0)).unwrap();
+            game.apply(obs(1)).unwrap();
+            let mover = game.legal_actions(game.current_seat())[0];
+            game.apply(mover).unwrap();
+            if t % 2 == 0 {
+                game.apply(Action::Reveal).unwrap();
+            } else {
+                // Hint the last unhinted cards, which no turn observes.
+                let step = game
+                    .apply(Action::Place(HintSlot(placed), Card(8 - placed)))
+                    .unwrap();
+                placed += 1;
+                assert_eq!(step.done, t == 7);
+            }
+        }
+        assert!(game.is_over());
+        let placer = Seat(1);
+        let view = game.view(placer);
+        match memory {
+            Memory::Imperfect => {
+                assert_eq!(game.known_cards(placer), 0);
+                assert_eq!(view.known_colour(Card(0)), None);
+                assert_eq!(view.known_colour(Card(1)), None);
+            }
+            Memory::Perfect => {
+                assert_eq!(game.known_cards(placer) & 0b11, 0b11);
+                assert!(view.known_colour(Card(1)).is_some());
+            }
+        }
+    }
+}
+
+#[test]
 fn perfect_memory_follows_a_moved_card() {
     let config = nine();
     let mut game = Game::from_deal(config, &clustered_deal(&config)).unwrap();

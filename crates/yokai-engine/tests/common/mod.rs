@@ -307,13 +307,8 @@ pub fn play_checked(
                 Memory::Imperfect if s == game.current_seat().index() && !game.is_over() => {
                     game.turn_observed()
                 }
-                Memory::Imperfect => {
-                    if game.is_over() && s == game.current_seat().index() {
-                        game.turn_observed()
-                    } else {
-                        0
-                    }
-                }
+                // A finished game has no turn in progress, whichever way it ended.
+                Memory::Imperfect => 0,
             };
             assert_eq!(game.known_cards(seat), may_know, "{seat}");
             let mut private = vec![0u8; config.image_shape(Part::Private).iter().product()];
