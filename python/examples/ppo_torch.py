@@ -14,7 +14,7 @@ parameters across seats on `yokai.VecEnv`, as the Rust trainer (`yokai train`) d
   (BPTT over the full rollout); clipped policy and value losses, entropy bonus, global
   gradient-norm clip, Adam with linear learning-rate annealing.
 
-Run (defaults are the paper's IPPO hyper-parameters, TRAINING.md):
+Run (defaults are the paper's IPPO hyper-parameters, docs/spec/training.md):
 
     pip install ./python torch
     python python/examples/ppo_torch.py --config 9c-2p-perfect --total-steps 10000000

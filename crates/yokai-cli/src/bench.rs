@@ -46,7 +46,7 @@ pub struct Args {
     json: bool,
 }
 
-/// The paper's JAX environment on an NVIDIA H100, random legal actions (TRAINING.md).
+/// The paper's JAX environment on an NVIDIA H100, random legal actions (docs/spec/training.md).
 fn paper_h100(config: &Config, envs: usize) -> Option<f64> {
     let name = config.short_name()?;
     let base = name

@@ -17,7 +17,7 @@ pub struct Args {
     /// depend on the number of threads.
     #[arg(short, long, default_value_t = 0)]
     seed: u64,
-    /// Never choose END (the RULES.md reference row "never choosing END").
+    /// Never choose END (the docs/spec/rules.md reference row "never choosing END").
     #[arg(long)]
     never_end: bool,
     /// Print the metrics as JSON instead of a table.

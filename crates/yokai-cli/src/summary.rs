@@ -138,7 +138,8 @@ pub fn table_row(g: &GroupSummary) -> String {
     )
 }
 
-/// The paper's published rows for a game (TRAINING.md, "Paper anchors"), as Markdown
+/// The paper's published rows for a game (docs/spec/training.md, "The paper's figures"), as
+/// Markdown
 /// rows of the same table; empty for games the paper has no table for.
 pub fn paper_rows(game: &str) -> String {
     if game != "9c-2p-perfect" {

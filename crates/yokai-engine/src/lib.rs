@@ -1,6 +1,6 @@
 //! # yokai-engine — the rules of Yōkai, exact and fast
 //!
-//! This crate is the contract of the Yōkai Learning Environment: `shared/spec/RULES.md`
+//! This crate is the contract of the Yōkai Learning Environment: `docs/spec/rules.md`
 //! implemented completely, with no ML dependency. Everything else in the workspace (batched
 //! environments, agents, training, the CLI, the Python package) stands on it.
 //!

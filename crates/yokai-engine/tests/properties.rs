@@ -1,4 +1,5 @@
-//! Property tests over random legal play in every configuration: the invariants of RULES.md
+//! Property tests over random legal play in every configuration: the invariants of
+//! docs/spec/rules.md
 //! (see `common::play_checked` for the full list) hold at every step of every game.
 
 mod common;

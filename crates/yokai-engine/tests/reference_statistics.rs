@@ -1,5 +1,5 @@
 //! Random legal play matches the statistics of the independent reference implementation
-//! quoted in RULES.md §4 (9c-2p: R = −4.01, win 0.7 %, EE 64 %, LEN 20.2; 9c-3p −4.31;
+//! quoted in docs/spec/rules.md §4 (9c-2p: R = −4.01, win 0.7 %, EE 64 %, LEN 20.2; 9c-3p −4.31;
 //! 9c-4p −4.53). Tolerances are about 5 standard errors for the game counts used, so a
 //! rules change that shifts any of these by a few percent fails.
 

@@ -1,4 +1,4 @@
-//! One test per rule of RULES.md, each on a hand-built board.
+//! One test per rule of docs/spec/rules.md, each on a hand-built board.
 
 mod common;
 

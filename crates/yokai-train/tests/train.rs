@@ -354,7 +354,7 @@ fn normalized_entropy_reweights_only_the_entropy_bonus() {
 
 /// The learning test CI keeps: the shipped `quick` preset (pointer head) learns within
 /// 60 updates (123k steps), measured on its own training games, so a change that breaks
-/// learning fails here. Uniformly random legal play scores R −4.0 (RULES.md §4) and never
+/// learning fails here. Uniformly random legal play scores R −4.0 (docs/spec/rules.md §4) and never
 /// ending −4.27; the untrained network scores about −4.2 with 2.5 correct hints of 4.
 #[test]
 fn the_quick_preset_learns_to_hint_and_to_cluster_beyond_random_play() {

@@ -207,7 +207,8 @@ fn transformed_game(game: &Game, sym: &Symmetry) -> Game {
     Game::from_layout(config, &mapped, &cells).unwrap()
 }
 
-/// Play one game with random legal actions and check every invariant of RULES.md on the way.
+/// Play one game with random legal actions and check every invariant of docs/spec/rules.md on
+/// the way.
 /// Returns the record and the number of steps.
 pub fn play_checked(
     config: Config,

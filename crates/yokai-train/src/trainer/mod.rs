@@ -1,5 +1,5 @@
 //! Recurrent PPO over batched games: IPPO, high-entropy IPPO and Other-Play are presets of
-//! this one trainer (TRAINING.md).
+//! this one trainer (docs/spec/training.md).
 //!
 //! Every seat of every game is one row of the batch, with shared parameters; non-acting
 //! seats take NOOP (their only legal action) but still step their memory, so they learn
