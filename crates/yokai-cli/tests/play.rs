@@ -156,6 +156,36 @@ fn train_then_eval_a_run_directory() {
         "paper reference rows: {t}"
     );
     assert!(out_dir.join("seed-1/policy.ykp").exists());
+    // Two seeds side by side, one thread each, train exactly what one after the other does.
+    let side_by_side = dir.join("jobs");
+    let out = yokai(&[
+        "train",
+        config.to_str().unwrap(),
+        "--seeds",
+        "0..2",
+        "--out",
+        side_by_side.to_str().unwrap(),
+        "--eval-games",
+        "0",
+        "--threads",
+        "2",
+        "--jobs",
+        "2",
+    ]);
+    assert!(out.status.success(), "{}", text(&out));
+    assert!(
+        text(&out).contains("2 at a time on 1 thread(s) each"),
+        "{}",
+        text(&out)
+    );
+    for seed in 0..2 {
+        let path = format!("seed-{seed}");
+        let (alone, beside) = (
+            yokai_train::TrainedPolicy::load(&out_dir.join(&path)).unwrap(),
+            yokai_train::TrainedPolicy::load(&side_by_side.join(&path)).unwrap(),
+        );
+        assert_eq!(alone.parameters(), beside.parameters(), "seed {seed}");
+    }
     let eval = out_dir.join("eval");
     let report = std::fs::read_to_string(eval.join("report.md")).unwrap();
     assert!(

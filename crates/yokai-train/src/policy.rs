@@ -88,6 +88,15 @@ impl TrainedPolicy {
     pub fn game(&self) -> &Config {
         &self.game
     }
+    /// Every parameter of the network, flattened (to compare two trained networks: the
+    /// files themselves also hold burn's per-process parameter ids).
+    pub fn parameters(&self) -> Vec<f32> {
+        match &self.net {
+            Net::Paper(net) => crate::trainer::parameters(net.as_ref()),
+            Net::Compact(net) => crate::trainer::parameters(net.as_ref()),
+        }
+    }
+
     pub fn header(&self) -> &FileHeader {
         &self.header
     }
