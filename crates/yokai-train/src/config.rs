@@ -95,6 +95,10 @@ pub struct NetworkConfig {
     pub preset: NetworkPreset,
     /// The actor head: `dense` (the paper's) or `pointer`.
     pub head: ActionHead,
+    /// Pointer head only: NOOP, END and REVEAL read the mean and maximum of the card
+    /// embeddings besides the GRU state, so "is every colour clustered?" — a question about
+    /// all cards at once — reaches the END logit directly.
+    pub pointer_pool: bool,
     /// Width of the embedding layer and of the GRU state (256 in the paper).
     pub hidden: usize,
     /// Conv filters per layer (paper preset only; 64 in the paper).
@@ -214,6 +218,7 @@ impl Default for NetworkConfig {
         NetworkConfig {
             preset: NetworkPreset::Paper,
             head: ActionHead::Dense,
+            pointer_pool: false,
             hidden: 256,
             filters: 64,
             actor_gain: 0.01,
@@ -392,6 +397,9 @@ impl TrainConfig {
                 "pointer reads the graph node features: it needs network.preset = \"compact\"",
             );
         }
+        if self.network.pointer_pool && self.network.head != ActionHead::Pointer {
+            return bad("network.pointer_pool", "needs network.head = \"pointer\"");
+        }
         if self.run.checkpoint_every == 0 || self.run.log_every == 0 {
             return bad("run.checkpoint_every / run.log_every", "must be at least 1");
         }
@@ -413,6 +421,7 @@ mod tests {
         assert_eq!(c.algorithm.symmetries, SymmetrySet::None);
         // The levers of issue 21 are opt-in: the paper's head, no extra bonus or shaping.
         assert_eq!(c.network.head, ActionHead::Dense);
+        assert!(!c.network.pointer_pool);
         assert_eq!(c.ppo.end_entropy_coef, 0.0);
         assert_eq!(c.ppo.end_lookahead, 0.0);
         assert_eq!(c.ppo.end_lookahead_form, EndForm::Expected);
@@ -429,6 +438,12 @@ mod tests {
         assert!(e.contains("network.head") && e.contains("compact"), "{e}");
         let ok = "[network]\nhead = \"pointer\"\npreset = \"compact\"\n";
         assert!(TrainConfig::from_toml_str(ok, "p.toml").is_ok());
+        let pooled = format!("{ok}pointer_pool = true\n");
+        assert!(TrainConfig::from_toml_str(&pooled, "p.toml").is_ok());
+        let e = TrainConfig::from_toml_str("[network]\npointer_pool = true\n", "p.toml")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("network.pointer_pool"), "{e}");
     }
 
     #[test]

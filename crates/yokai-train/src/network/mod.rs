@@ -220,8 +220,16 @@ impl<E: Encoder, M: Memory> ActorCritic<E, M> {
             gru: M::new(h, h, &mut init, device),
             actor: (config.network.head == ActionHead::Dense)
                 .then(|| init.linear(h, game.num_actions(), config.network.actor_gain, device)),
-            pointer: (config.network.head == ActionHead::Pointer)
-                .then(|| PointerHead::new(game, h, config.network.actor_gain, &mut init, device)),
+            pointer: (config.network.head == ActionHead::Pointer).then(|| {
+                PointerHead::new(
+                    game,
+                    h,
+                    config.network.pointer_pool,
+                    config.network.actor_gain,
+                    &mut init,
+                    device,
+                )
+            }),
             critic: init.linear(h, 1, config.network.critic_gain, device),
             hidden: h,
         }

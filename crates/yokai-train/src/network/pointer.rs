@@ -16,8 +16,9 @@
 //!   the card against the cards that would become its neighbours (and a learnt embedding of
 //!   the cell);
 //! - OBSERVE y: a linear score of `r_y`; PLACE h on y: `a_h · b_y`;
-//! - NOOP, END and REVEAL: a linear map of the GRU state. (Adding the mean and maximum of
-//!   the card embeddings `r` to its input did not help on `quick`: docs/training.md.)
+//! - NOOP, END and REVEAL: a linear map of the GRU state, and with `network.pointer_pool`
+//!   of the mean and maximum of the card embeddings `r` too (whether every colour is
+//!   clustered is a question about all cards at once, which END needs answered).
 //!
 //! The card positions are read from the graph node features (row and column channels), so
 //! the head follows Other-Play's rotated views without knowing about them.
@@ -51,7 +52,7 @@ pub struct PointerHead {
     /// PLACE: query of the hint slot, key of the card.
     hint_query: Linear,
     hint_key: Linear,
-    /// NOOP, END, REVEAL from the GRU state.
+    /// NOOP, END, REVEAL from the GRU state (and the pooled card embeddings with `pool`).
     other: Linear,
     #[module(skip)]
     shape: HeadShape,
@@ -67,10 +68,19 @@ struct HeadShape {
     /// Feature channels of a node's row and column, scaled to [0, 1].
     row: usize,
     col: usize,
+    /// NOOP, END and REVEAL also read the mean and maximum of the card embeddings.
+    pool: bool,
 }
 
 impl PointerHead {
-    pub fn new(game: &Config, hidden: usize, gain: f64, init: &mut Init, device: &Device) -> Self {
+    pub fn new(
+        game: &Config,
+        hidden: usize,
+        pool: bool,
+        gain: f64,
+        init: &mut Init,
+        device: &Device,
+    ) -> Self {
         let [_, features] = game.node_shape(yokai_engine::Part::Full);
         let ch = game.image_channels();
         let g = game.grid();
@@ -88,7 +98,7 @@ impl PointerHead {
             observe: init.linear(WIDTH, 1, gain, device),
             hint_query: init.linear(WIDTH, WIDTH, gain, device),
             hint_key: init.linear(WIDTH, WIDTH, 1.0, device),
-            other: init.linear(hidden, 3, gain, device),
+            other: init.linear(hidden + if pool { 2 * WIDTH } else { 0 }, 3, gain, device),
             shape: HeadShape {
                 cards: game.cards(),
                 hints: game.hints(),
@@ -96,6 +106,7 @@ impl PointerHead {
                 grid: g,
                 row: ch.row,
                 col: ch.col,
+                pool,
             },
         }
     }
@@ -139,7 +150,13 @@ impl PointerHead {
             .hint_query
             .forward(z_hints)
             .matmul(self.hint_key.forward(cards.clone()).swap_dims(1, 2));
-        let other = self.other.forward(h);
+        let other = if self.shape.pool {
+            let mean = cards.clone().mean_dim(1).reshape([b, WIDTH]);
+            let max = cards.max_dim(1).reshape([b, WIDTH]);
+            self.other.forward(Tensor::cat(vec![h, mean, max], 1))
+        } else {
+            self.other.forward(h)
+        };
         Tensor::cat(
             vec![
                 other.clone().narrow(1, 0, 2),
@@ -232,7 +249,7 @@ mod tests {
         let device = Device::flex();
         for name in ["9c-2p-perfect", "16c-3p-perfect"] {
             let game_config = Config::from_name(name).unwrap();
-            let head = PointerHead::new(&game_config, 8, 0.01, &mut Init::new(1), &device);
+            let head = PointerHead::new(&game_config, 8, false, 0.01, &mut Init::new(1), &device);
             let [nodes, f] = game_config.node_shape(Part::Full);
             let (y, g) = (game_config.cards(), game_config.grid());
             let mut rng = ChaCha8Rng::seed_from_u64(7);
@@ -302,5 +319,33 @@ mod tests {
         };
         assert_ne!(base[mv(0, 5, 6)], after[mv(0, 5, 6)]);
         assert_eq!(base[mv(0, 2, 3)], after[mv(0, 2, 3)]);
+    }
+
+    /// With `pointer_pool`, END reads the cards: it changes when a card's known colour
+    /// does, at the same GRU state; without it, END depends on the GRU state alone.
+    #[test]
+    fn pooled_end_reads_the_cards_and_plain_end_does_not() {
+        let device = Device::flex();
+        let game_config = Config::from_name("9c-2p-perfect").unwrap();
+        let [nodes, f] = game_config.node_shape(Part::Full);
+        let mut x = vec![0f32; nodes * f];
+        Game::new(game_config, 0)
+            .view(Seat(0))
+            .write_nodes(Part::Full, &mut x)
+            .unwrap();
+        let mut changed = x.clone();
+        let known = game_config.image_channels().known;
+        changed[4 * f + known] = 1.0 - changed[4 * f + known];
+        let end = game_config.encode(Action::End);
+        for pool in [false, true] {
+            let head = PointerHead::new(&game_config, 8, pool, 1.0, &mut Init::new(2), &device);
+            let h: Tensor<2> = Tensor::ones([1, 8], &device);
+            let end_logit = |x: &[f32]| {
+                let obs = Tensor::from_data(TensorData::new(x.to_vec(), [1, nodes * f]), &device);
+                to_vec(head.forward(obs, h.clone()))[end]
+            };
+            let (before, after) = (end_logit(&x), end_logit(&changed));
+            assert_eq!(before != after, pool, "pool {pool}: {before} → {after}");
+        }
     }
 }
