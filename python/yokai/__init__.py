@@ -6,7 +6,7 @@ coordination research, with a Rust engine.
   metrics): hand them to PyTorch or JAX without copying.
 - :class:`Env` is one game with full introspection (legal actions by name, text rendering,
   observations in every encoding, ground truth, replays).
-- :func:`yokai.pettingzoo.parallel_env` wraps :class:`Env` as a PettingZoo ``ParallelEnv``.
+- :func:`yokai.zoo.parallel_env` wraps :class:`Env` as a PettingZoo ``ParallelEnv``.
 
 Errors raised by the engine derive from :class:`YokaiError` (a ``ValueError``).
 """

@@ -37,8 +37,8 @@ pub struct Args {
     replays: u64,
 }
 
-/// One cell of the cross-play matrix.
-pub struct Cell {
+/// One entry of the cross-play table: the games of the policies in `row` and `col`.
+pub struct PairResult {
     pub row: usize,
     pub col: usize,
     pub metrics: Metrics,
@@ -181,18 +181,18 @@ pub fn run(args: Args) -> Result<(), String> {
         (None, None) => Config::resolve("9c-2p-perfect").map_err(|e| e.to_string())?,
     };
     let names: Vec<String> = entries.iter().map(Entry::name).collect();
-    let cells = evaluate(&config, &entries, args.games, args.seed, args.threads)?;
-    let groups = summarise_groups(&entries, &names, &cells);
+    let results = evaluate(&config, &entries, args.games, args.seed, args.threads)?;
+    let groups = summarise_groups(&entries, &names, &results);
     match args.out {
         None => print!(
             "{}",
-            report(&config, &names, &cells, args.games, &groups, &[])
+            report(&config, &names, &results, args.games, &groups, &[])
         ),
         Some(dir) => {
-            let text = write_outputs(&dir, &config, &entries, &cells, args.games, &groups)?;
+            let text = write_outputs(&dir, &config, &entries, &results, args.games, &groups)?;
             print!("{text}");
             if args.replays > 0 {
-                let pairs: Vec<(usize, usize)> = cells.iter().map(|c| (c.row, c.col)).collect();
+                let pairs: Vec<(usize, usize)> = results.iter().map(|c| (c.row, c.col)).collect();
                 save_replays(
                     &config,
                     &entries,
@@ -251,7 +251,7 @@ pub fn evaluate(
     games: u64,
     seed: u64,
     threads: Option<usize>,
-) -> Result<Vec<Cell>, String> {
+) -> Result<Vec<PairResult>, String> {
     for e in entries {
         e.check_game(config)?;
     }
@@ -282,7 +282,7 @@ pub fn evaluate(
         .map(|entry| Box::new(move |seed| entry.build(seed)) as Box<PolicyFactory<'_>>)
         .collect();
     let names: Vec<String> = entries.iter().map(Entry::name).collect();
-    let mut cells = Vec::new();
+    let mut results = Vec::new();
     for (i, j, seatings, games) in per_pair {
         bar.set_message(format!("{} + {}", names[i], names[j]));
         let mut acc = MetricsAccumulator::default();
@@ -295,14 +295,14 @@ pub fn evaluate(
             acc.merge(&part);
         }
         let metrics = acc.metrics().expect("at least one game");
-        cells.push(Cell {
+        results.push(PairResult {
             row: i,
             col: j,
             metrics,
         });
     }
     bar.finish_and_clear();
-    Ok(cells)
+    Ok(results)
 }
 
 fn pct(x: f64) -> String {
@@ -353,9 +353,13 @@ fn run_dir_of(path: &Path) -> PathBuf {
 }
 
 /// The paper's table for the groups of trained seeds in an evaluation.
-pub fn summarise_groups(entries: &[Entry], names: &[String], cells: &[Cell]) -> Vec<GroupSummary> {
+pub fn summarise_groups(
+    entries: &[Entry],
+    names: &[String],
+    results: &[PairResult],
+) -> Vec<GroupSummary> {
     let flat: Vec<(usize, usize, Metrics)> =
-        cells.iter().map(|c| (c.row, c.col, c.metrics)).collect();
+        results.iter().map(|c| (c.row, c.col, c.metrics)).collect();
     groups_of(entries)
         .iter()
         .map(|(method, members)| summarise(method, names, &flat, members))
@@ -365,7 +369,7 @@ pub fn summarise_groups(entries: &[Entry], names: &[String], cells: &[Cell]) -> 
 pub fn report(
     config: &Config,
     names: &[String],
-    cells: &[Cell],
+    results: &[PairResult],
     games: u64,
     groups: &[GroupSummary],
     pictures: &[(&str, &str)],
@@ -387,12 +391,12 @@ pub fn report(
         out += &format!("![{title}]({file})\n\n");
     }
     out += "## Self-play\n\n| policy | R | win % | SEE % | EE % | WEE % | LEN |\n|---|---|---|---|---|---|---|\n";
-    for c in cells.iter().filter(|c| c.row == c.col) {
+    for c in results.iter().filter(|c| c.row == c.col) {
         out += &format!("| {} | {} |\n", names[c.row], row_of(&c.metrics));
     }
     if names.len() > 1 {
         out += "\n## Cross-play\n\n| pair | R | win % | SEE % | EE % | WEE % | LEN |\n|---|---|---|---|---|---|---|\n";
-        for c in cells.iter().filter(|c| c.row != c.col) {
+        for c in results.iter().filter(|c| c.row != c.col) {
             out += &format!(
                 "| {} + {} | {} |\n",
                 names[c.row],
@@ -411,7 +415,7 @@ pub fn report(
             out += &format!("| {name} |");
             for j in 0..names.len() {
                 let (a, b) = (i.min(j), i.max(j));
-                let c = cells
+                let c = results
                     .iter()
                     .find(|c| c.row == a && c.col == b)
                     .expect("every pair played");
@@ -429,7 +433,7 @@ pub fn write_outputs(
     dir: &Path,
     config: &Config,
     entries: &[Entry],
-    cells: &[Cell],
+    results: &[PairResult],
     games: u64,
     groups: &[GroupSummary],
 ) -> Result<String, String> {
@@ -443,7 +447,7 @@ pub fn write_outputs(
     let mut pictures = Vec::new();
     let n = names.len();
     let mut matrix = vec![vec![0.0; n]; n];
-    for c in cells {
+    for c in results {
         matrix[c.row][c.col] = c.metrics.reward;
         matrix[c.col][c.row] = c.metrics.reward;
     }
@@ -499,7 +503,7 @@ pub fn write_outputs(
         pictures.push(("learning curves: return", "learning_return.png"));
         pictures.push(("learning curves: SEE", "learning_see.png"));
     }
-    let report = report(config, names, cells, games, groups, &pictures);
+    let report = report(config, names, results, games, groups, &pictures);
     let summary = EvalSummary {
         game: config.to_string(),
         games_per_pair: games,
@@ -513,7 +517,7 @@ pub fn write_outputs(
     let mut csv = String::from(
         "row,col,games,reward,reward_se,win_rate,see,ee,wee,length,correct_hints,wrong_hints\n",
     );
-    for c in cells {
+    for c in results {
         let m = &c.metrics;
         csv += &format!(
             "{},{},{},{},{},{},{},{},{},{},{},{}\n",
@@ -533,7 +537,7 @@ pub fn write_outputs(
         );
     }
     write("matrix.csv", csv)?;
-    let json: Vec<serde_json::Value> = cells
+    let json: Vec<serde_json::Value> = results
         .iter()
         .map(
             |c| serde_json::json!({"row": names[c.row], "col": names[c.col], "metrics": c.metrics}),

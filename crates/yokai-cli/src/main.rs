@@ -7,6 +7,7 @@ mod play;
 mod plots;
 mod random;
 mod replay;
+mod show;
 mod summary;
 mod svg;
 mod train;
@@ -49,7 +50,7 @@ enum Command {
     /// with the paper's numbers as reference rows where the game matches.
     Compare(compare::Args),
     /// Show one game's deal and the board as text (ground truth).
-    Show(random::ShowArgs),
+    Show(show::Args),
 }
 
 fn main() -> ExitCode {
@@ -64,7 +65,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Random(args) => random::run(args),
-        Command::Show(args) => random::show(args),
+        Command::Show(args) => show::run(args),
         Command::Bench(args) => bench::run(args),
         Command::Eval(args) => eval::run(args),
         Command::Train(args) => train::run(args),

@@ -25,14 +25,6 @@ pub struct Args {
     json: bool,
 }
 
-#[derive(clap::Args)]
-pub struct ShowArgs {
-    #[arg(short, long, default_value = "9c-2p-perfect")]
-    config: String,
-    #[arg(short, long, default_value_t = 0)]
-    seed: u64,
-}
-
 fn play_one(config: Config, seed: u64, never_end: bool) -> Outcome {
     let mut game = Game::new(config, seed);
     let mut policy = RandomPolicy::new(seed ^ 0xA5A5_A5A5);
@@ -111,11 +103,4 @@ fn print_table(config: &str, m: &Metrics) {
         m.correct_hints,
         m.wrong_hints
     );
-}
-
-pub fn show(args: ShowArgs) -> Result<(), String> {
-    let config = Config::resolve(&args.config).map_err(|e| e.to_string())?;
-    let game = Game::new(config, args.seed);
-    print!("{}", yokai_engine::render_truth(&game));
-    Ok(())
 }

@@ -211,10 +211,17 @@ pub fn run(args: Args) -> Result<(), String> {
         dirs.len(),
         args.eval_games
     );
-    let cells = evaluate(&game, &entries, args.eval_games, 0, args.threads)?;
-    let groups = summarise_groups(&entries, &names, &cells);
+    let results = evaluate(&game, &entries, args.eval_games, 0, args.threads)?;
+    let groups = summarise_groups(&entries, &names, &results);
     let eval_dir = out.join("eval");
-    let text = write_outputs(&eval_dir, &game, &entries, &cells, args.eval_games, &groups)?;
+    let text = write_outputs(
+        &eval_dir,
+        &game,
+        &entries,
+        &results,
+        args.eval_games,
+        &groups,
+    )?;
     print!("{text}");
     let group: Vec<usize> = (0..dirs.len()).collect();
     // Two self-play games of every seed, to look at with `yokai replay`.

@@ -48,11 +48,6 @@ impl Game {
             .count()
     }
 
-    /// Every colour clustered.
-    pub fn is_won(&self) -> bool {
-        self.clustered_colours() == self.config.colours()
-    }
-
     /// (correct, wrong) among placed hints.
     pub fn hint_tally(&self) -> (usize, usize) {
         let mut correct = 0;

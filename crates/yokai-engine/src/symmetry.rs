@@ -129,9 +129,6 @@ impl Symmetry {
         out
     }
 
-    pub fn colour_permutation(&self) -> &[u8] {
-        &self.colour_map[..self.colours as usize]
-    }
     pub fn rotation(&self) -> u8 {
         self.rotation
     }

@@ -125,10 +125,7 @@ impl<'a> PublicView<'a> {
     pub fn ever_observed(&self, seat: Seat) -> u32 {
         self.game.ever_observed(seat)
     }
-    /// Legal actions of `seat` (legality depends on public facts only).
-    pub fn legal_actions_of(&self, seat: Seat) -> Vec<Action> {
-        self.game.legal_actions(seat)
-    }
+    /// Legal actions of `seat`, in index order (legality depends on public facts only).
     pub fn for_each_legal_of(&self, seat: Seat, f: impl FnMut(Action)) {
         self.game.for_each_legal(seat, f)
     }

@@ -4,7 +4,7 @@
 use crate::config::{NetworkPreset, TrainConfig};
 use crate::distribution::sample_row;
 use crate::file::Container;
-use crate::network::{ActorCritic, CnnEncoder, Encoder, GruCell, Memory, MlpEncoder};
+use crate::network::{ActorCritic, CnnEncoder, Encoder, GruCell, Recurrent, MlpEncoder};
 use crate::run::{CHECKPOINT, POLICY};
 use crate::trainer::{default_device, load_model, read_header, FileHeader, TrainError};
 use burn::prelude::*;
@@ -132,7 +132,7 @@ pub fn check_game(path: &Path, trained: &Config, game: &Config) -> Result<(), Tr
 
 /// One seat played by a network: keeps its GRU state and steps it on every game step,
 /// whoever acts, exactly as in training.
-pub struct NetworkPolicy<E: Encoder, M: Memory = GruCell> {
+pub struct NetworkPolicy<E: Encoder, M: Recurrent = GruCell> {
     model: ActorCritic<E, M>,
     name: String,
     device: Device,
@@ -144,7 +144,7 @@ pub struct NetworkPolicy<E: Encoder, M: Memory = GruCell> {
     rng: ChaCha8Rng,
 }
 
-impl<E: Encoder, M: Memory> NetworkPolicy<E, M> {
+impl<E: Encoder, M: Recurrent> NetworkPolicy<E, M> {
     fn new(model: ActorCritic<E, M>, from: &TrainedPolicy, seed: u64) -> Self {
         let len: usize = E::encoding().shape(&from.game).iter().product();
         NetworkPolicy {
@@ -187,7 +187,7 @@ impl<E: Encoder, M: Memory> NetworkPolicy<E, M> {
     }
 }
 
-impl<E: Encoder, M: Memory> Policy for NetworkPolicy<E, M> {
+impl<E: Encoder, M: Recurrent> Policy for NetworkPolicy<E, M> {
     fn name(&self) -> String {
         self.name.clone()
     }

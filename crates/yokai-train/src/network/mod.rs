@@ -127,10 +127,11 @@ impl Encoder for MlpEncoder {
     }
 }
 
-/// A recurrent memory stepped one time step at a time (the caller zeroes a row's state
-/// where an episode starts). A step is split in two so that BPTT computes the part that
+/// The network's recurrent memory, stepped one time step at a time (the caller zeroes a
+/// row's state where an episode starts). Named `Recurrent`, not `Memory`, because the
+/// engine's `Memory` is the game's memory mode (perfect or imperfect). A step is split in two so that BPTT computes the part that
 /// depends only on the input for a whole sequence in one matrix product.
-pub trait Memory: Module + burn::module::ModuleDisplay + Sized {
+pub trait Recurrent: Module + burn::module::ModuleDisplay + Sized {
     fn new(d_in: usize, size: usize, init: &mut Init, device: &Device) -> Self;
     /// Width of the state, which is also the memory's output.
     fn size(&self) -> usize;
@@ -150,7 +151,7 @@ pub struct GruCell {
     size: usize,
 }
 
-impl Memory for GruCell {
+impl Recurrent for GruCell {
     fn new(d_in: usize, size: usize, init: &mut Init, device: &Device) -> GruCell {
         GruCell {
             input: init.linear(d_in, 3 * size, 1.0, device),
@@ -196,7 +197,7 @@ pub struct Output {
 /// (the paper's), or `pointer`, which also reads the observation's per-card features
 /// ([`PointerHead`]). Exactly one of them is present.
 #[derive(Module, Debug)]
-pub struct ActorCritic<E: Encoder, M: Memory> {
+pub struct ActorCritic<E: Encoder, M: Recurrent> {
     encoder: E,
     embed: Linear,
     gru: M,
@@ -207,7 +208,7 @@ pub struct ActorCritic<E: Encoder, M: Memory> {
     hidden: usize,
 }
 
-impl<E: Encoder, M: Memory> ActorCritic<E, M> {
+impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
     /// A freshly initialised network; a pure function of `seed`.
     pub fn new(config: &TrainConfig, game: &Config, seed: u64, device: &Device) -> Self {
         let mut init = Init::new(seed);

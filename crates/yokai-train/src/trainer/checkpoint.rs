@@ -4,7 +4,7 @@
 use super::{default_device, optimizer, to_vec, TrainError, Trainer};
 use crate::config::TrainConfig;
 use crate::file::Container;
-use crate::network::{Encoder, Memory};
+use crate::network::{Encoder, Recurrent};
 use burn::module::{Module, ModuleVisitor, Param};
 use burn::prelude::*;
 use burn::store::ModuleRecord;
@@ -42,7 +42,7 @@ pub(super) struct LoopState {
     pub episodes: Vec<u64>,
 }
 
-impl<E: Encoder, M: Memory> Trainer<E, M> {
+impl<E: Encoder, M: Recurrent> Trainer<E, M> {
     fn header(&self, kind: &str) -> FileHeader {
         FileHeader {
             kind: kind.into(),

@@ -24,7 +24,7 @@ pub use checkpoint::{parameters, FileHeader};
 
 use crate::config::TrainConfig;
 use crate::file::FileError;
-use crate::network::{ActorCritic, Encoder, GruCell, Memory};
+use crate::network::{ActorCritic, Encoder, GruCell, Recurrent};
 use burn::optim::{AdamConfig, ModuleOptimizer};
 use burn::prelude::*;
 use burn::tensor::TensorData;
@@ -95,7 +95,7 @@ pub struct UpdateStats {
 }
 
 /// A training run of one seed, in memory: encoder `E`, memory `M` (a GRU unless given).
-pub struct Trainer<E: Encoder, M: Memory = GruCell> {
+pub struct Trainer<E: Encoder, M: Recurrent = GruCell> {
     config: TrainConfig,
     game: Config,
     seed: u64,
@@ -150,7 +150,7 @@ fn to_vec<const D: usize>(t: Tensor<D>) -> Vec<f32> {
         .expect("f32 tensor data")
 }
 
-impl<E: Encoder, M: Memory> Trainer<E, M> {
+impl<E: Encoder, M: Recurrent> Trainer<E, M> {
     /// A new run of `config` with `seed`, from freshly initialised weights, on the CPU.
     pub fn new(config: TrainConfig, seed: u64) -> Result<Trainer<E, M>, TrainError> {
         Trainer::new_on(config, seed, default_device())

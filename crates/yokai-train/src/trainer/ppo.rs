@@ -6,7 +6,7 @@ use super::rollout::Rollout;
 use super::{tensor1, tensor2, Trainer};
 use crate::config::EndForm;
 use crate::distribution::{binary_entropy, chosen_log_prob, entropy, masked_log_softmax};
-use crate::network::{Encoder, Memory};
+use crate::network::{Encoder, Recurrent};
 use burn::module::{Module, ModuleMapper, ModuleVisitor, Param};
 use burn::optim::GradientsParams;
 use burn::prelude::*;
@@ -24,7 +24,7 @@ pub(super) struct Losses {
     pub replay_error: f64,
 }
 
-impl<E: Encoder, M: Memory> Trainer<E, M> {
+impl<E: Encoder, M: Recurrent> Trainer<E, M> {
     /// `epochs` passes over the rollout in `minibatches` shuffled sets of whole rows.
     pub(super) fn learn_epochs(&mut self, ro: &Rollout, lr: f64, rng: &mut ChaCha8Rng) -> Losses {
         let c = self.config.ppo.clone();

@@ -5,7 +5,7 @@
 use super::{tensor2, to_vec, TrainError, Trainer};
 use crate::distribution::sample_row;
 use crate::gae::gae;
-use crate::network::{Encoder, Memory};
+use crate::network::{Encoder, Recurrent};
 use burn::module::Module;
 use rand_chacha::rand_core::Rng;
 use rand_chacha::ChaCha8Rng;
@@ -38,7 +38,7 @@ pub(super) struct Rollout {
     pub end_rewards: Vec<f32>,
 }
 
-impl<E: Encoder, M: Memory> Trainer<E, M> {
+impl<E: Encoder, M: Recurrent> Trainer<E, M> {
     /// Play `rollout_steps` steps in every game with the current network, sampling from
     /// `rng`; `shaping` weighs the shaping reward in the returns.
     pub(super) fn collect(
