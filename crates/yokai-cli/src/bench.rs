@@ -46,21 +46,13 @@ pub struct Args {
     json: bool,
 }
 
-/// The paper's JAX environment on an NVIDIA H100, random legal actions (docs/spec/training.md).
+/// The paper's JAX environment on an NVIDIA H100, random legal actions (`paper.rs`).
 fn paper_h100(config: &Config, envs: usize) -> Option<f64> {
     let name = config.short_name()?;
     let base = name
         .strip_suffix("-perfect")
         .or(name.strip_suffix("-imperfect"))?;
-    match (base, envs) {
-        ("9c-2p", 512) => Some(139_000.0),
-        ("9c-2p", 1024) => Some(275_000.0),
-        ("9c-2p", 2048) => Some(559_251.0),
-        ("16c-2p", 512) => Some(136_000.0),
-        ("16c-2p", 1024) => Some(145_000.0),
-        ("16c-2p", 2048) => Some(148_269.0),
-        _ => None,
-    }
+    crate::paper::h100_steps_per_second(base, envs)
 }
 
 /// Steps per second (one step = one substep of one game) of random legal play.

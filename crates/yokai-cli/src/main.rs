@@ -3,6 +3,7 @@
 mod bench;
 mod compare;
 mod eval;
+mod paper;
 mod play;
 mod plots;
 mod random;

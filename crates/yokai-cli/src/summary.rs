@@ -138,27 +138,21 @@ pub fn table_row(g: &GroupSummary) -> String {
     )
 }
 
-/// The paper's published rows for a game (docs/spec/training.md, "The paper's figures"), as
-/// Markdown
-/// rows of the same table; empty for games the paper has no table for.
+/// The paper's published rows for a game (`paper::TABLE_9C_2P`), as Markdown rows of the
+/// same table; empty for games the paper has no table for.
 pub fn paper_rows(game: &str) -> String {
     if game != "9c-2p-perfect" {
         return String::new();
     }
-    [
-        ("paper: IPPO", "12", "7.5", "89", "1.6", "18", "29.7"),
-        ("paper: HE", "12", "7.5", "95", "4.1", "50", "27.2"),
-        ("paper: OP", "12", "6.6", "84", "4.8", "63", "26.7"),
-        ("paper: OBL L1..L5", "12", "4.0–4.8", "68–80", "2.1–2.8", "38–53", "28.5–29.5"),
-        ("paper: random legal", "–", "−4.0", "0.6", "−4.0", "0.6", "20.2"),
-    ]
-    .iter()
-    .map(|(name, seeds, sp_r, sp_see, xp_r, xp_see, xp_len)| {
-        format!(
-            "| {name} | {seeds} | {sp_r} | {sp_see} | – | – | – | {xp_r} | {xp_see} | – | – | {xp_len} |\n"
-        )
-    })
-    .collect()
+    crate::paper::TABLE_9C_2P
+        .iter()
+        .map(|r| {
+            format!(
+                "| paper: {} | {} | {} | {} | – | – | – | {} | {} | – | – | {} |\n",
+                r.method, r.seeds, r.sp_r, r.sp_see, r.xp_r, r.xp_see, r.xp_len
+            )
+        })
+        .collect()
 }
 
 #[cfg(test)]
@@ -214,7 +208,16 @@ mod tests {
             row.contains("| -2.00 |"),
             "one XP pair: the mean alone, {row}"
         );
-        assert!(paper_rows("9c-2p-perfect").contains("| paper: HE | 12 | 7.5 | 95 |"));
+        // One printed row per method of the paper's table, in the table's columns.
+        let rows = paper_rows("9c-2p-perfect");
+        assert_eq!(rows.lines().count(), crate::paper::TABLE_9C_2P.len());
+        for line in rows.lines() {
+            assert_eq!(
+                line.matches('|').count(),
+                TABLE_HEAD.lines().next().unwrap().matches('|').count(),
+                "{line}"
+            );
+        }
         assert!(paper_rows("16c-2p-perfect").is_empty());
     }
 }

@@ -4,7 +4,7 @@
 use crate::config::{NetworkPreset, TrainConfig};
 use crate::distribution::sample_row;
 use crate::file::Container;
-use crate::network::{ActorCritic, CnnEncoder, Encoder, GruCell, Recurrent, MlpEncoder};
+use crate::network::{ActorCritic, CnnEncoder, Encoder, GruCell, MlpEncoder, Recurrent};
 use crate::run::{CHECKPOINT, POLICY};
 use crate::trainer::{default_device, load_model, read_header, FileHeader, TrainError};
 use burn::prelude::*;
