@@ -5,6 +5,7 @@ mod compare;
 mod eval;
 mod paper;
 mod play;
+mod playthrough;
 mod plots;
 mod random;
 mod replay;
@@ -52,6 +53,9 @@ enum Command {
     Compare(compare::Args),
     /// Show one game's deal and the board as text (ground truth).
     Show(show::Args),
+    /// Write one game step by step (board, legal actions, observation digests, rewards), or
+    /// with --write the golden set the engine's tests compare against.
+    Playthrough(playthrough::Args),
 }
 
 fn main() -> ExitCode {
@@ -67,6 +71,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Random(args) => random::run(args),
         Command::Show(args) => show::run(args),
+        Command::Playthrough(args) => playthrough::run(args),
         Command::Bench(args) => bench::run(args),
         Command::Eval(args) => eval::run(args),
         Command::Train(args) => train::run(args),

@@ -80,6 +80,7 @@ pub mod game;
 mod legal;
 pub mod metrics;
 pub mod observation;
+pub mod playthrough;
 pub mod render;
 pub mod replay;
 pub mod scoring;
@@ -97,6 +98,7 @@ pub use metrics::{Metrics, MetricsAccumulator};
 pub use observation::{
     BufferError, ImageChanges, ImageChannels, ImageEncoder, ImageLayout, Part, Scalar,
 };
+pub use playthrough::{golden_set, playthrough, Chooser, GoldenGame, PLAYTHROUGH_FORMAT};
 pub use render::{render_seat, render_truth};
 pub use replay::{Replay, ReplayFileError, ReplayHeader, ReplayStep, REPLAY_FORMAT};
 pub use scoring::Outcome;
