@@ -328,7 +328,13 @@ fn train_device_errors_name_the_device_and_leave_no_run() {
 fn playthrough_prints_the_engines_golden_game() {
     let golden = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../yokai-engine/tests/playthroughs/16c-3p-imperfect-seed2-never-end.txt");
-    let out = yokai_ok(&["playthrough", "16c-3p-imperfect", "--seed", "2", "--never-end"]);
+    let out = yokai_ok(&[
+        "playthrough",
+        "16c-3p-imperfect",
+        "--seed",
+        "2",
+        "--never-end",
+    ]);
     assert_eq!(
         String::from_utf8(out).unwrap(),
         std::fs::read_to_string(golden).unwrap()
