@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::yokai_ok;
+use common::{yokai_err, yokai_ok};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::Duration;
@@ -122,5 +122,17 @@ fn a_run_killed_twenty_times_and_resumed_equals_an_uninterrupted_run() {
     );
     // The report still works on the resumed run.
     yokai_ok(&["eval", run.to_str().unwrap(), "--games", "4"]);
+    // A resume with nothing to resume names the checkpoint it looked for.
+    let nothing = dir.join("nothing");
+    let err = yokai_err(&[
+        "train",
+        config.to_str().unwrap(),
+        "--seeds",
+        "0",
+        "--out",
+        nothing.to_str().unwrap(),
+        "--resume",
+    ]);
+    assert!(err.contains("checkpoint.ykc"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
