@@ -152,6 +152,13 @@ pub struct PpoConfig {
     /// Which gradient `end_lookahead` adds (see [`EndForm`]); the paper's presets leave
     /// `end_lookahead` at 0, where this does nothing.
     pub end_lookahead_form: EndForm,
+    /// Weight of an auxiliary belief loss (pointer head only): from each card's embedding
+    /// the network predicts the card's true colour, by cross-entropy, at every state where
+    /// a seat chooses. The agent has to represent what it knows and what it can infer about
+    /// every card, which END (is every colour clustered?) and clustering moves depend on.
+    /// A centralised-training signal; 0 (every preset but `cpu`) turns it off and leaves
+    /// the network without the colour layer.
+    pub belief_aux: f32,
     /// Global gradient-norm clip.
     pub max_grad_norm: f32,
     pub epochs: usize,
@@ -246,6 +253,7 @@ impl Default for PpoConfig {
             end_entropy_coef: 0.0,
             end_lookahead: 0.0,
             end_lookahead_form: EndForm::Expected,
+            belief_aux: 0.0,
             max_grad_norm: 0.5,
             epochs: 4,
             minibatches: 4,
@@ -397,6 +405,15 @@ impl TrainConfig {
                 "pointer reads the graph node features: it needs network.preset = \"compact\"",
             );
         }
+        if !(p.belief_aux >= 0.0 && p.belief_aux.is_finite()) {
+            return bad("ppo.belief_aux", "must be a number ≥ 0");
+        }
+        if p.belief_aux > 0.0 && self.network.head != ActionHead::Pointer {
+            return bad(
+                "ppo.belief_aux",
+                "reads the pointer head's card embeddings: it needs network.head = \"pointer\"",
+            );
+        }
         if self.network.pointer_pool && self.network.head != ActionHead::Pointer {
             return bad("network.pointer_pool", "needs network.head = \"pointer\"");
         }
@@ -426,6 +443,7 @@ mod tests {
         assert_eq!(c.ppo.end_lookahead, 0.0);
         assert_eq!(c.ppo.end_lookahead_form, EndForm::Expected);
         assert_eq!(c.ppo.shaping_fraction, 1.0);
+        assert_eq!(c.ppo.belief_aux, 0.0);
         assert_eq!(c.ppo.cluster_shaping, 0.0);
         assert!(!c.ppo.entropy_normalized);
     }
@@ -466,10 +484,18 @@ mod tests {
                 .to_string();
             assert!(e.contains("ppo.shaping_fraction"), "{bad}: {e}");
         }
+        let e = TrainConfig::from_toml_str("[ppo]\nbelief_aux = 0.5\n", "x")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("ppo.belief_aux") && e.contains("pointer"), "{e}");
+        let e = TrainConfig::from_toml_str("[ppo]\nbelief_aux = -1.0\n", "x")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("ppo.belief_aux"), "{e}");
         let e = TrainConfig::from_toml_str("[ppo]\nend_lookahead_form = \"fast\"\n", "x")
             .unwrap_err()
             .to_string();
-        assert!(e.contains("fast") && e.contains("natural"), "{e}");
+        assert!(e.contains("fast") && e.contains("target"), "{e}");
     }
 
     #[test]

@@ -558,3 +558,73 @@ fn a_run_can_start_from_a_trained_policy_and_resumes_without_it() {
     let e = err(Trainer::<MlpEncoder>::new(missing, 0));
     assert!(e.contains("nowhere.ykp"), "{e}");
 }
+
+#[test]
+fn belief_targets_name_colours_as_each_seat_sees_them() {
+    // Under Other-Play a seat sees relabelled colours: wherever its view shows a card's
+    // colour, the belief target of that card is that same (relabelled) colour.
+    let mut c = tiny(SymmetrySet::Both, 4);
+    c.network.head = yokai_train::ActionHead::Pointer;
+    c.ppo.belief_aux = 1.0;
+    let mut trainer = Trainer::<MlpEncoder>::new(c, 2).unwrap();
+    let game = *trainer.env().config();
+    let [nodes, f] = game.node_shape(Part::Full);
+    let (y, colours) = (game.cards(), game.colours());
+    let known = game.image_channels().known;
+    let mut checked = 0;
+    for _ in 0..3 {
+        trainer.update().unwrap();
+        let (obs, _) = trainer.views();
+        for r in 0..8 * game.players() {
+            let mut truth = vec![0u8; y];
+            trainer.view_truth(r, &mut truth);
+            let row = &obs[r * nodes * f..][..nodes * f];
+            for (k, &colour) in truth.iter().enumerate() {
+                let shown: Vec<f32> = (0..colours).map(|ch| row[k * f + known + ch]).collect();
+                if shown.iter().any(|&x| x > 0.5) {
+                    assert_eq!(shown[colour as usize], 1.0, "row {r} card {k}: {shown:?}");
+                    checked += 1;
+                }
+            }
+        }
+    }
+    assert!(checked > 20, "{checked} known cards checked");
+}
+
+#[test]
+fn the_belief_loss_learns_to_name_the_colours_a_seat_has_seen() {
+    let run = |aux: f32| {
+        one_thread(|| {
+            let mut c = tiny(SymmetrySet::None, 30);
+            c.network.head = yokai_train::ActionHead::Pointer;
+            c.ppo.belief_aux = aux;
+            c.ppo.lr = 0.01;
+            c.ppo.anneal_lr = false;
+            let mut t = Trainer::<MlpEncoder>::new(c, 6).unwrap();
+            let stats: Vec<_> = (0..30).map(|_| t.update().unwrap()).collect();
+            (stats, t.parameters().len())
+        })
+    };
+    let (with, with_params) = run(1.0);
+    let accuracy = |s: &[yokai_train::UpdateStats]| {
+        s.iter().map(|u| u.belief_accuracy.unwrap()).sum::<f64>() / s.len() as f64
+    };
+    let (first, last) = (accuracy(&with[..3]), accuracy(&with[27..]));
+    // 3 colours of 3 cards: a guess is right 1/3 of the time; a seat that reads the colours
+    // it has observed (a few cards by mid-game) does better, and learning gets there.
+    assert!(
+        last > 0.45 && last > first + 0.05,
+        "colour accuracy {first:.3} in updates 1-3, {last:.3} in updates 28-30"
+    );
+    assert!(with[29].belief_loss.unwrap() < with[0].belief_loss.unwrap());
+    // Off: no figures, and no colour layer in the network (old policy files still load).
+    let (without, without_params) = run(0.0);
+    assert!(without
+        .iter()
+        .all(|u| u.belief_loss.is_none() && u.belief_accuracy.is_none()));
+    assert_eq!(
+        with_params - without_params,
+        32 * 3 + 3,
+        "the colour layer, WIDTH × C + C"
+    );
+}

@@ -226,6 +226,7 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
                     game,
                     h,
                     config.network.pointer_pool,
+                    config.ppo.belief_aux > 0.0,
                     config.network.actor_gain,
                     &mut init,
                     device,
@@ -270,6 +271,19 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
             (Some(actor), _) => actor.forward(states),
             (None, Some(pointer)) => pointer.forward(obs, states),
             (None, None) => unreachable!("ActorCritic::new builds one actor head"),
+        }
+    }
+
+    /// The action logits and, where the network has a colour layer (`ppo.belief_aux`),
+    /// every card's colour logits `[rows, Y, C]`.
+    pub fn policy_and_colour_logits(
+        &self,
+        obs: Tensor<2>,
+        states: Tensor<2>,
+    ) -> (Tensor<2>, Option<Tensor<3>>) {
+        match &self.pointer {
+            Some(pointer) => pointer.forward_with_colours(obs, states),
+            None => (self.policy_logits(obs, states), None),
         }
     }
 

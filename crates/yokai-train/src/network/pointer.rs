@@ -54,6 +54,8 @@ pub struct PointerHead {
     hint_key: Linear,
     /// NOOP, END, REVEAL from the GRU state (and the pooled card embeddings with `pool`).
     other: Linear,
+    /// With `ppo.belief_aux`: each card's colour logits from its embedding.
+    colour: Option<Linear>,
     #[module(skip)]
     shape: HeadShape,
 }
@@ -77,6 +79,7 @@ impl PointerHead {
         game: &Config,
         hidden: usize,
         pool: bool,
+        colour_head: bool,
         gain: f64,
         init: &mut Init,
         device: &Device,
@@ -99,6 +102,7 @@ impl PointerHead {
             hint_query: init.linear(WIDTH, WIDTH, gain, device),
             hint_key: init.linear(WIDTH, WIDTH, 1.0, device),
             other: init.linear(hidden + if pool { 2 * WIDTH } else { 0 }, 3, gain, device),
+            colour: colour_head.then(|| init.linear(WIDTH, game.colours(), 1.0, device)),
             shape: HeadShape {
                 cards: game.cards(),
                 hints: game.hints(),
@@ -114,6 +118,16 @@ impl PointerHead {
     /// Logits `[B, N_a]` in the game's action order, from the graph node features `[B,
     /// (Y+H)·F]` and the GRU states `[B, H]` of the same rows.
     pub fn forward(&self, nodes: Tensor<2>, h: Tensor<2>) -> Tensor<2> {
+        self.forward_with_colours(nodes, h).0
+    }
+
+    /// The action logits and, with the colour layer, each card's colour logits `[B, Y, C]`
+    /// from the same card embeddings.
+    pub fn forward_with_colours(
+        &self,
+        nodes: Tensor<2>,
+        h: Tensor<2>,
+    ) -> (Tensor<2>, Option<Tensor<3>>) {
         let HeadShape {
             cards: y,
             hints: nh,
@@ -150,6 +164,7 @@ impl PointerHead {
             .hint_query
             .forward(z_hints)
             .matmul(self.hint_key.forward(cards.clone()).swap_dims(1, 2));
+        let colours = self.colour.as_ref().map(|c| c.forward(cards.clone()));
         let other = if self.shape.pool {
             let mean = cards.clone().mean_dim(1).reshape([b, WIDTH]);
             let max = cards.max_dim(1).reshape([b, WIDTH]);
@@ -157,7 +172,7 @@ impl PointerHead {
         } else {
             self.other.forward(h)
         };
-        Tensor::cat(
+        let logits = Tensor::cat(
             vec![
                 other.clone().narrow(1, 0, 2),
                 observe,
@@ -166,7 +181,8 @@ impl PointerHead {
                 place.reshape([b, nh * y]),
             ],
             1,
-        )
+        );
+        (logits, colours)
     }
 
     /// Where the cards lie, from their node features `[B, Y, F]`: `on[b, y, x]` is 1 when
@@ -249,7 +265,15 @@ mod tests {
         let device = Device::flex();
         for name in ["9c-2p-perfect", "16c-3p-perfect"] {
             let game_config = Config::from_name(name).unwrap();
-            let head = PointerHead::new(&game_config, 8, false, 0.01, &mut Init::new(1), &device);
+            let head = PointerHead::new(
+                &game_config,
+                8,
+                false,
+                false,
+                0.01,
+                &mut Init::new(1),
+                &device,
+            );
             let [nodes, f] = game_config.node_shape(Part::Full);
             let (y, g) = (game_config.cards(), game_config.grid());
             let mut rng = ChaCha8Rng::seed_from_u64(7);
@@ -338,7 +362,15 @@ mod tests {
         changed[4 * f + known] = 1.0 - changed[4 * f + known];
         let end = game_config.encode(Action::End);
         for pool in [false, true] {
-            let head = PointerHead::new(&game_config, 8, pool, 1.0, &mut Init::new(2), &device);
+            let head = PointerHead::new(
+                &game_config,
+                8,
+                pool,
+                false,
+                1.0,
+                &mut Init::new(2),
+                &device,
+            );
             let h: Tensor<2> = Tensor::ones([1, 8], &device);
             let end_logit = |x: &[f32]| {
                 let obs = Tensor::from_data(TensorData::new(x.to_vec(), [1, nodes * f]), &device);

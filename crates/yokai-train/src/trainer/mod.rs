@@ -33,7 +33,7 @@ use rand_chacha::rand_core::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 use yokai_engine::{
-    derive_seed, Config, EpisodeRecord, ImageLayout, Metrics, RecordedGame, Symmetry,
+    derive_seed, Card, Config, EpisodeRecord, ImageLayout, Metrics, RecordedGame, Symmetry,
 };
 use yokai_vec::{Encoding, VecEnv, VecEnvOptions, VecError};
 
@@ -89,6 +89,12 @@ pub struct UpdateStats {
     /// games: what `ppo.cluster_shaping` paid before its weight (0 when it is off).
     #[serde(default)]
     pub cluster_reward: f64,
+    /// With `ppo.belief_aux`: the colour cross-entropy (nats per card) and the share of
+    /// cards whose most likely predicted colour is the true one, at the choosing states.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub belief_loss: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub belief_accuracy: Option<f64>,
     /// Seconds spent acting (rollout) and learning (epochs) in this update.
     pub rollout_seconds: f64,
     pub learn_seconds: f64,
@@ -278,6 +284,16 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         }
     }
 
+    /// The true colour of every card of `row`'s game, named as the row's seat sees colours
+    /// (its symmetry's relabelling applied): the target of `ppo.belief_aux`.
+    pub fn view_truth(&self, row: usize, out: &mut [u8]) {
+        let game = self.env.game(row / self.game.players());
+        let sym = self.row_sym[row].0;
+        for (k, colour) in out.iter_mut().enumerate() {
+            *colour = sym.map_colour(game.colour_of(Card(k as u8))).0;
+        }
+    }
+
     /// Every row's observation and legal mask as its seat sees them (its symmetry applied).
     fn view(&self, obs: &mut [f32], masks: &mut [f32]) {
         let (l, na) = (self.obs_len, self.n_actions);
@@ -377,6 +393,8 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             shaping,
             replay_error: losses.replay_error,
             cluster_reward: rollout.cluster_reward,
+            belief_loss: losses.belief.map(|b| b.0),
+            belief_accuracy: losses.belief.map(|b| b.1),
             rollout_seconds,
             learn_seconds: secs - rollout_seconds,
         })

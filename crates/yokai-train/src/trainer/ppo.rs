@@ -10,18 +10,23 @@ use crate::network::{Encoder, Recurrent};
 use burn::module::{Module, ModuleMapper, ModuleVisitor, Param};
 use burn::optim::GradientsParams;
 use burn::prelude::*;
+use burn::tensor::activation::log_softmax;
 use burn::tensor::TensorData;
 use rand_chacha::rand_core::Rng;
 use rand_chacha::ChaCha8Rng;
 use yokai_engine::Action;
 
-/// What the epochs of one update report.
+/// What the epochs of one update report (means over minibatches).
+#[derive(Default)]
 pub(super) struct Losses {
     pub policy: f64,
     pub value: f64,
     /// Mean |log π_new − log π_old| of the first minibatch before any step (see
     /// `UpdateStats::replay_error`).
     pub replay_error: f64,
+    /// With `belief_aux`: the colour cross-entropy (nats per card) and the share of cards
+    /// whose most likely colour is the true one.
+    pub belief: Option<(f64, f64)>,
 }
 
 impl<E: Encoder, M: Recurrent> Trainer<E, M> {
@@ -30,8 +35,8 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         let c = self.config.ppo.clone();
         let rows = self.rows;
         let mb = rows / c.minibatches;
-        let (mut pl_sum, mut vl_sum, mut count) = (0f64, 0f64, 0u64);
-        let mut replay_error = 0.0;
+        let mut sum = Losses::default();
+        let mut count = 0u64;
         let mut order: Vec<usize> = (0..rows).collect();
         for _ in 0..c.epochs {
             for i in (1..rows).rev() {
@@ -45,25 +50,31 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
                     (k + 1) * mb
                 };
                 let batch = &order[k * mb..end];
-                let (pl, vl, err) = self.learn(batch, ro, lr);
+                let step = self.learn(batch, ro, lr);
                 if count == 0 {
-                    replay_error = err;
+                    sum.replay_error = step.replay_error;
                 }
-                pl_sum += pl;
-                vl_sum += vl;
+                sum.policy += step.policy;
+                sum.value += step.value;
+                if let Some((loss, accuracy)) = step.belief {
+                    let (l, a) = sum.belief.unwrap_or((0.0, 0.0));
+                    sum.belief = Some((l + loss, a + accuracy));
+                }
                 count += 1;
             }
         }
+        let n = count as f64;
         Losses {
-            policy: pl_sum / count as f64,
-            value: vl_sum / count as f64,
-            replay_error,
+            policy: sum.policy / n,
+            value: sum.value / n,
+            replay_error: sum.replay_error,
+            belief: sum.belief.map(|(l, a)| (l / n, a / n)),
         }
     }
 
-    /// One gradient step on the rows `batch` of the rollout; returns the policy and value
-    /// losses and the mean |Δ log π| against the rollout before the step.
-    fn learn(&mut self, batch: &[usize], ro: &Rollout, lr: f64) -> (f64, f64, f64) {
+    /// One gradient step on the rows `batch` of the rollout; returns its losses and the mean
+    /// |Δ log π| against the rollout before the step.
+    fn learn(&mut self, batch: &[usize], ro: &Rollout, lr: f64) -> Losses {
         let c = &self.config.ppo;
         let (rows, l, na) = (self.rows, self.obs_len, self.n_actions);
         let hsz = self.model.hidden_size();
@@ -89,6 +100,9 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         let mut end_legal = Vec::new();
         // Per choosing row, with `end_lookahead`: R_END(s) − V(s) (0 where END is illegal).
         let mut end_adv = Vec::new();
+        // Per choosing row and card, with `belief_aux`: the card's true colour, one-hot.
+        let (y, colours) = (self.game.cards(), self.game.colours());
+        let mut truth = Vec::new();
         for (j, &r) in batch.iter().enumerate() {
             h0.extend_from_slice(&ro.h0[r * hsz..][..hsz]);
             for t in 0..t_len {
@@ -113,6 +127,13 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
                     }
                     if c.end_lookahead > 0.0 {
                         end_adv.push((ro.end_rewards[i] - ro.values[i]) * ro.masks[i * na + end]);
+                    }
+                    if c.belief_aux > 0.0 {
+                        for &colour in &ro.truth[i * y..][..y] {
+                            let at = truth.len();
+                            truth.resize(at + colours, 0.0);
+                            truth[at + colour as usize] = 1.0;
+                        }
                     }
                 }
             }
@@ -140,8 +161,10 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             .mean()
             * 0.5;
         let n = choosing.len();
+        let zero = Tensor::<1>::zeros([1], d).sum();
+        let mut belief_loss = zero.clone();
+        let mut belief_accuracy = 0.0;
         let (policy_loss, ent, end_bonus, replay_error) = if n == 0 {
-            let zero = Tensor::<1>::zeros([1], d).sum();
             (zero.clone(), zero.clone(), zero, 0.0)
         } else {
             let idx = Tensor::<1, Int>::from_data(TensorData::new(choosing, [n]), d);
@@ -151,7 +174,15 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             } else {
                 Tensor::zeros([n, 1], d)
             };
-            let logits = self.model.policy_logits(row_obs, states.select(0, idx));
+            let (logits, colour_logits) = self
+                .model
+                .policy_and_colour_logits(row_obs, states.select(0, idx));
+            if let (Some(colour_logits), true) = (colour_logits, c.belief_aux > 0.0) {
+                let truth = Tensor::<3>::from_data(TensorData::new(truth, [n, y, colours]), d);
+                let log_p = log_softmax(colour_logits, 2);
+                belief_accuracy = colour_accuracy(log_p.clone(), truth.clone());
+                belief_loss = (log_p * truth).sum().neg() / (n * y) as f32;
+            }
             let mask = tensor2(masks, [n, na], d);
             let log_probs = masked_log_softmax(logits, mask.clone());
             let logp = chosen_log_prob(log_probs.clone(), tensor2(one_hot, [n, na], d));
@@ -190,17 +221,29 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         };
         let loss = policy_loss.clone() + value_loss.clone() * c.value_coef
             - ent * c.entropy_coef
-            - end_bonus;
+            - end_bonus
+            + belief_loss.clone() * c.belief_aux;
         let mut grads = GradientsParams::from_grads(loss.backward(), &self.model);
         clip_global_norm(&self.model, &mut grads, c.max_grad_norm);
         let model = self.model.clone();
         self.model = self.optim.step(lr, model, grads);
-        (
-            policy_loss.into_scalar::<f32>() as f64,
-            value_loss.into_scalar::<f32>() as f64,
+        Losses {
+            policy: policy_loss.into_scalar::<f32>() as f64,
+            value: value_loss.into_scalar::<f32>() as f64,
             replay_error,
-        )
+            belief: (c.belief_aux > 0.0 && n > 0)
+                .then(|| (belief_loss.into_scalar::<f32>() as f64, belief_accuracy)),
+        }
     }
+}
+
+/// Share of the cards `[n, Y, C]` whose most likely colour under `log_p` is the true one.
+fn colour_accuracy(log_p: Tensor<3>, truth: Tensor<3>) -> f64 {
+    let [n, y, _] = log_p.dims();
+    let picked = log_p.detach().argmax(2);
+    let true_colour = truth.argmax(2);
+    let hits = picked.equal(true_colour).int().sum().into_scalar::<i64>();
+    hits as f64 / (n * y) as f64
 }
 
 /// Temperature of the target form, in points of reward: σ(advantage / 0.25) is 0.98 where

@@ -36,6 +36,9 @@ pub(super) struct Rollout {
     /// With `end_lookahead`: per row and step, what END would pay in the row's game at that
     /// step (`[T × rows]`; meaningful where the row's mask allows END). Empty when off.
     pub end_rewards: Vec<f32>,
+    /// With `belief_aux`: per step, row and card, the card's true colour as the row's seat
+    /// sees colours (its symmetry's relabelling applied), `[T × rows × Y]`. Empty when off.
+    pub truth: Vec<u8>,
 }
 
 impl<E: Encoder, M: Recurrent> Trainer<E, M> {
@@ -83,6 +86,12 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         } else {
             Vec::new()
         };
+        let y = self.game.cards();
+        let mut truth = if c.belief_aux > 0.0 {
+            vec![0u8; t_len * rows * y]
+        } else {
+            Vec::new()
+        };
         let h0 = self.state.hidden.clone();
         let net = self.model.valid();
         let dev = self.infer_device.clone();
@@ -106,6 +115,11 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             let logits = to_vec(out.logits);
             values[t * rows..][..rows].copy_from_slice(&to_vec(out.values));
             let acting = self.env.acting_seats().to_vec();
+            if !truth.is_empty() {
+                for r in 0..rows {
+                    self.view_truth(r, &mut truth[(t * rows + r) * y..][..y]);
+                }
+            }
             if lookahead {
                 for (i, &seat) in acting.iter().enumerate() {
                     let r = i * p + seat as usize;
@@ -203,6 +217,7 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             },
             cluster_reward,
             end_rewards,
+            truth,
         })
     }
 }
