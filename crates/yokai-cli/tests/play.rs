@@ -132,18 +132,19 @@ fn train_then_eval_a_run_directory() {
     )
     .unwrap();
     let out_dir = dir.join("runs");
-    let out = yokai(&[
-        "train",
-        config.to_str().unwrap(),
-        "--seeds",
-        "0..2",
-        "--out",
-        out_dir.to_str().unwrap(),
-        "--eval-games",
-        "40",
-        "--threads",
-        "1",
-    ]);
+    // Seeds 0 and 1 of the tiny config into `out`, with more options.
+    let train_two = |out: &std::path::Path, more: &[&str]| {
+        let base = [
+            "train",
+            config.to_str().unwrap(),
+            "--seeds",
+            "0..2",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        yokai(&[&base[..], more].concat())
+    };
+    let out = train_two(&out_dir, &["--eval-games", "40", "--threads", "1"]);
     let t = text(&out);
     assert!(out.status.success(), "{t}");
     assert!(t.contains("## Paper table"), "{t}");
@@ -158,20 +159,10 @@ fn train_then_eval_a_run_directory() {
     assert!(out_dir.join("seed-1/policy.ykp").exists());
     // Two seeds side by side, one thread each, train exactly what one after the other does.
     let side_by_side = dir.join("jobs");
-    let out = yokai(&[
-        "train",
-        config.to_str().unwrap(),
-        "--seeds",
-        "0..2",
-        "--out",
-        side_by_side.to_str().unwrap(),
-        "--eval-games",
-        "0",
-        "--threads",
-        "2",
-        "--jobs",
-        "2",
-    ]);
+    let out = train_two(
+        &side_by_side,
+        &["--eval-games", "0", "--threads", "2", "--jobs", "2"],
+    );
     assert!(out.status.success(), "{}", text(&out));
     assert!(
         text(&out).contains("2 at a time on 1 thread(s) each"),
@@ -259,19 +250,13 @@ fn train_then_eval_a_run_directory() {
 
     // --init-from a directory of seeds: seed N of the new runs starts from its seed-N.
     let tuned = dir.join("tuned");
-    let args = [
-        "train",
-        config.to_str().unwrap(),
-        "--seeds",
-        "0..2",
-        "--out",
-        tuned.to_str().unwrap(),
+    let from = [
         "--eval-games",
         "0",
         "--init-from",
         out_dir.to_str().unwrap(),
     ];
-    let out = yokai(&args);
+    let out = train_two(&tuned, &from);
     assert!(out.status.success(), "{}", text(&out));
     for seed in 0..2 {
         let saved =
@@ -282,7 +267,7 @@ fn train_then_eval_a_run_directory() {
             "{saved}"
         );
     }
-    let out = yokai(&[&args[..], &["--resume"]].concat());
+    let out = train_two(&tuned, &[&from[..], &["--resume"]].concat());
     assert!(text(&out).contains("cannot be used with"), "{}", text(&out));
 }
 
