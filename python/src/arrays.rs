@@ -111,7 +111,7 @@ where
         match a.try_into() {
             Ok(v) => out.push(v),
             Err(_) => {
-                return Err(PyValueError::new_err(format!(
+                return Err(crate::errors::illegal(format!(
                     "action {a} is not an action index (indices are 0 or more)"
                 )))
             }

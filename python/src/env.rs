@@ -34,23 +34,25 @@ impl PyEnv {
         self.game.game().config()
     }
 
-    fn seat(&self, seat: Option<usize>) -> PyResult<Seat> {
+    fn seat(&self, seat: Option<i64>) -> PyResult<Seat> {
         let players = self.config_ref().players();
         match seat {
             None => Ok(self.game().current_seat()),
-            Some(s) if s < players => Ok(Seat(s as u8)),
+            Some(s) if (0..players as i64).contains(&s) => Ok(Seat(s as u8)),
             Some(s) => Err(PyValueError::new_err(format!(
                 "there is no seat {s} in a {players}-player game"
             ))),
         }
     }
 
-    /// An action given as an index or a name.
+    /// An action given as an index (a Python int or anything with ``__index__``, such as a
+    /// NumPy integer) or a name. Every index outside the action space, however large or
+    /// negative, is an ``IllegalActionError``; ``bool`` and non-integers are a ``TypeError``.
     fn action(&self, action: &Bound<'_, PyAny>) -> PyResult<Action> {
         if let Ok(name) = action.extract::<String>() {
             return name.parse::<Action>().map_err(illegal);
         }
-        let index: i64 = action.extract().map_err(|_| {
+        let type_error = || {
             pyo3::exceptions::PyTypeError::new_err(format!(
                 "an action is an int index or a name, not {}",
                 action
@@ -59,9 +61,20 @@ impl PyEnv {
                     .map(|n| n.to_string())
                     .unwrap_or_default()
             ))
-        })?;
-        let index = usize::try_from(index)
-            .map_err(|_| illegal(format!("action {index} is not an action index")))?;
+        };
+        // True would otherwise be index 1 (END).
+        if action.is_instance_of::<pyo3::types::PyBool>() {
+            return Err(type_error());
+        }
+        let index = action
+            .py()
+            .import("operator")?
+            .call_method1("index", (action,))
+            .map_err(|_| type_error())?;
+        let n = self.config_ref().num_actions();
+        let out_of_range = || illegal(format!("action {index} is not an action index (0..{n})"));
+        let index: i64 = index.extract().map_err(|_| out_of_range())?;
+        let index = usize::try_from(index).map_err(|_| out_of_range())?;
         self.config_ref().decode(index).map_err(illegal)
     }
 
@@ -155,7 +168,7 @@ impl PyEnv {
 
     /// Legal action indices of ``seat`` (only NOOP for a seat that is not acting).
     #[pyo3(signature = (seat=None))]
-    fn legal_actions(&self, seat: Option<usize>) -> PyResult<Vec<usize>> {
+    fn legal_actions(&self, seat: Option<i64>) -> PyResult<Vec<usize>> {
         let seat = self.seat(seat)?;
         let mut out = Vec::new();
         self.game().for_each_legal_index(seat, |i| out.push(i));
@@ -167,7 +180,7 @@ impl PyEnv {
     fn legal_mask<'py>(
         &self,
         py: Python<'py>,
-        seat: Option<usize>,
+        seat: Option<i64>,
     ) -> PyResult<Bound<'py, PyArrayDyn<u8>>> {
         let seat = self.seat(seat)?;
         let n_a = self.config_ref().num_actions();
@@ -197,7 +210,7 @@ impl PyEnv {
 
     /// Text picture: the true board (``seat=None``) or what ``seat`` knows.
     #[pyo3(signature = (seat=None))]
-    fn render(&self, seat: Option<usize>) -> PyResult<String> {
+    fn render(&self, seat: Option<i64>) -> PyResult<String> {
         match seat {
             None => Ok(render_truth(self.game())),
             Some(s) => Ok(render_seat(self.game(), self.seat(Some(s))?)),
@@ -210,7 +223,7 @@ impl PyEnv {
     fn observation(
         &self,
         py: Python<'_>,
-        seat: Option<usize>,
+        seat: Option<i64>,
         encoding: &str,
         dtype: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Py<PyAny>> {

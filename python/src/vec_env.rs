@@ -276,18 +276,20 @@ impl PyVecEnv {
 
     /// Text picture of game ``env``: the true board, or what ``seat`` knows of it.
     #[pyo3(signature = (env, seat=None))]
-    fn render(&self, env: usize, seat: Option<u8>) -> PyResult<String> {
-        if env >= self.options.num_envs {
+    fn render(&self, env: i64, seat: Option<i64>) -> PyResult<String> {
+        if !(0..self.options.num_envs as i64).contains(&env) {
             return Err(PyValueError::new_err(format!(
                 "there is no game {env} in a batch of {}",
                 self.options.num_envs
             )));
         }
         with_env!(&self.inner, e => {
-            let game = e.game(env);
+            let game = e.game(env as usize);
             match seat {
                 None => Ok(render_truth(game)),
-                Some(s) if (s as usize) < self.config.players() => Ok(render_seat(game, Seat(s))),
+                Some(s) if (0..self.config.players() as i64).contains(&s) => {
+                    Ok(render_seat(game, Seat(s as u8)))
+                }
                 Some(s) => Err(PyValueError::new_err(format!(
                     "there is no seat {s} in a {}-player game",
                     self.config.players()

@@ -123,3 +123,31 @@ def test_bad_replays():
     text = text.replace('"actions":[2,', '"actions":[2,2,')
     with pytest.raises(yokai.ReplayError, match="step 1"):
         yokai.Env.from_replay(text)
+
+
+def test_every_out_of_range_or_wrongly_typed_action_is_a_clear_error_and_changes_nothing():
+    env = yokai.Env(seed=3)
+    n = env.num_actions
+    for bad in [2**70, -1, n, np.uint64(2**63), np.int64(-5)]:
+        with pytest.raises(yokai.IllegalActionError, match="not an action index|out of range"):
+            env.step(bad)
+    # bool is not an action index (True would otherwise be END), nor is a float.
+    for bad in [True, False, 1.5, None]:
+        with pytest.raises(TypeError, match="an action is an int index or a name"):
+            env.step(bad)
+    # NumPy integers are indices like Python ints.
+    assert env.steps == 0
+    env.step(np.int32(env.legal_actions()[0]))
+    assert env.steps == 1
+    # Seats out of range are ValueErrors naming the seat, whatever their sign.
+    for seat in [-1, 2]:
+        with pytest.raises(ValueError, match="no seat"):
+            env.legal_actions(seat)
+    venv = yokai.VecEnv(num_envs=2)
+    venv.reset()
+    with pytest.raises(yokai.IllegalActionError, match="not an action index"):
+        venv.step(np.array([-1, 2]))
+    with pytest.raises(ValueError, match="no seat -1"):
+        venv.render(0, -1)
+    with pytest.raises(ValueError, match="no game -1"):
+        venv.render(-1)
