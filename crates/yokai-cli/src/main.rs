@@ -10,6 +10,7 @@ mod plots;
 mod random;
 mod replay;
 mod show;
+mod soak;
 mod summary;
 mod svg;
 mod train;
@@ -56,6 +57,9 @@ enum Command {
     /// Write one game step by step (board, legal actions, observation digests, rewards), or
     /// with --write the golden set the engine's tests compare against.
     Playthrough(playthrough::Args),
+    /// Random legal play across every preset through the batched environment, checking the
+    /// rules' invariants at every step and replaying a sample against the reference.
+    Soak(soak::Args),
 }
 
 fn main() -> ExitCode {
@@ -72,6 +76,7 @@ fn main() -> ExitCode {
         Command::Random(args) => random::run(args),
         Command::Show(args) => show::run(args),
         Command::Playthrough(args) => playthrough::run(args),
+        Command::Soak(args) => soak::run(args),
         Command::Bench(args) => bench::run(args),
         Command::Eval(args) => eval::run(args),
         Command::Train(args) => train::run(args),

@@ -327,3 +327,21 @@ fn playthrough_prints_the_engines_golden_game() {
     let err = yokai_err(&["playthrough", "7c-2p"]);
     assert!(err.contains("7c-2p"), "{err}");
 }
+
+#[test]
+fn soak_plays_every_preset_and_replays_a_sample_against_the_reference() {
+    let out = yokai_ok(&["soak", "--steps", "24000", "--envs", "16", "--sample", "5"]);
+    let text = String::from_utf8(out).unwrap();
+    assert_eq!(text.matches("no violation").count(), 12, "{text}");
+    assert!(text.contains("all 12 configs: 24000 steps"), "{text}");
+    let replayed: u64 = text
+        .lines()
+        .last()
+        .and_then(|l| l.split(", ").nth(2))
+        .and_then(|p| p.split(' ').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap();
+    assert!(replayed >= 12 * 10, "{text}");
+    let err = yokai_err(&["soak", "--steps", "lots"]);
+    assert!(err.contains("lots"), "{err}");
+}

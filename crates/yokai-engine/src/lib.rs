@@ -81,6 +81,7 @@ mod legal;
 pub mod metrics;
 pub mod observation;
 pub mod playthrough;
+pub mod reference;
 pub mod render;
 pub mod replay;
 pub mod scoring;
