@@ -67,9 +67,9 @@ pub struct Args {
     /// Worker threads in all (default: all cores), shared among the seeds trained at once.
     #[arg(long)]
     threads: Option<usize>,
-    /// Seeds trained at the same time, each on threads / jobs threads (default: as many as
-    /// there are threads, at most the number of seeds). Each seed's run is the same
-    /// whichever seeds train beside it, up to float rounding with a different thread count.
+    /// Seeds trained at the same time, each on max(1, threads / jobs) threads (default: all
+    /// seeds, at most two per thread). Each seed's run is the same whichever seeds train
+    /// beside it, up to float rounding with a different thread count.
     #[arg(long)]
     jobs: Option<usize>,
     /// Where the network trains: `cpu` (always built), `vulkan` or `cuda` (GPU; built with
@@ -132,9 +132,12 @@ pub fn run(args: Args) -> Result<(), String> {
     let game = config.game_config().map_err(|e| e.to_string())?;
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let threads = args.threads.unwrap_or(cores).max(1);
+    // By default every seed at once, up to two per thread: a compact run keeps about one
+    // core busy, and 3 seeds side by side on 2 cores train 1.8× as fast as one after the
+    // other (scripts/jobs-ab.sh, docs/training.md).
     let jobs = args
         .jobs
-        .unwrap_or(seeds.len().min(threads))
+        .unwrap_or(seeds.len().min(2 * threads))
         .clamp(1, seeds.len());
     let threads_per_job = (threads / jobs).max(1);
     eprintln!(
@@ -147,9 +150,7 @@ pub fn run(args: Args) -> Result<(), String> {
         out.display()
     );
     // Seeds are independent runs: `jobs` workers take them in order from a queue, each on
-    // its own thread pool. A run of the compact network keeps about one core busy (its
-    // matrices are small), so two seeds side by side train nearly twice as fast as one
-    // after the other (docs/training.md).
+    // its own thread pool.
     let progress = MultiProgress::new();
     let queue = Mutex::new(seeds.iter().copied().collect::<VecDeque<u64>>());
     let finished = Mutex::new(Vec::new());
