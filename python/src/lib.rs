@@ -24,18 +24,7 @@ fn episode_seed(seed: u64, env: usize, episode: u64) -> u64 {
 /// The names of the built-in configurations.
 #[pyfunction]
 fn configs() -> Vec<String> {
-    let mut names = Vec::new();
-    for cards in ["9c", "16c"] {
-        for players in 2..=4 {
-            for memory in ["perfect", "imperfect"] {
-                let name = format!("{cards}-{players}p-{memory}");
-                if Config::from_name(&name).is_ok() {
-                    names.push(name);
-                }
-            }
-        }
-    }
-    names
+    Config::presets().iter().map(|c| c.to_string()).collect()
 }
 
 #[pymodule]

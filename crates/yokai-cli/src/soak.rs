@@ -8,7 +8,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 use std::collections::BTreeSet;
 use std::time::Instant;
-use yokai_engine::reference::{reference_moves, reference_reward};
+use yokai_engine::reference::{connected, reference_moves, reference_reward};
 use yokai_engine::{Action, Card, Config, Game, HintSlot, Seat, Substep};
 use yokai_vec::{episode_seed, Encoding, VecEnv, VecEnvOptions};
 
@@ -57,14 +57,7 @@ struct Tally {
 }
 
 pub fn run(args: Args) -> Result<(), String> {
-    let configs: Vec<Config> = ["9c", "16c"]
-        .iter()
-        .flat_map(|v| (2..=4).map(move |p| (v, p)))
-        .flat_map(|(v, p)| {
-            ["perfect", "imperfect"].map(|m| Config::from_name(&format!("{v}-{p}p-{m}")))
-        })
-        .collect::<Result<_, _>>()
-        .map_err(|e| e.to_string())?;
+    let configs = Config::presets();
     if args.envs == 0 || args.sample == 0 {
         return Err("--envs and --sample must be at least 1".into());
     }
@@ -169,42 +162,21 @@ fn soak_config(
     Ok(tally)
 }
 
-/// What every state of every game must satisfy (RULES §1, §2, §4). Connectivity is a
-/// flood fill over a plain grid of booleans, independent of the engine's bitboards.
+/// What every state of every game must satisfy (RULES §1, §2, §4), connectivity by the
+/// reference's breadth-first search over plain cells.
 fn check_invariants(game: &Game) -> Result<(), String> {
     let config = game.config();
-    let (y, g) = (config.cards(), config.grid());
-    let mut occupied = vec![false; g * g];
-    for k in 0..y {
-        let c = game.cell_of(Card(k as u8));
-        let i = c.row as usize * g + c.col as usize;
-        if occupied[i] {
-            return Err("two cards share a cell".into());
-        }
-        occupied[i] = true;
+    let y = config.cards();
+    let cells: BTreeSet<(i32, i32)> = (0..y)
+        .map(|k| {
+            let c = game.cell_of(Card(k as u8));
+            (c.row as i32, c.col as i32)
+        })
+        .collect();
+    if cells.len() != y {
+        return Err("two cards share a cell".into());
     }
-    let first = game.cell_of(Card(0));
-    let mut stack = vec![first.row as usize * g + first.col as usize];
-    let mut seen = vec![false; g * g];
-    seen[stack[0]] = true;
-    let mut reached = 0;
-    while let Some(i) = stack.pop() {
-        reached += 1;
-        let (r, c) = (i / g, i % g);
-        let neighbours = [
-            (r > 0).then(|| i - g),
-            (r + 1 < g).then(|| i + g),
-            (c > 0).then(|| i - 1),
-            (c + 1 < g).then(|| i + 1),
-        ];
-        for j in neighbours.into_iter().flatten() {
-            if occupied[j] && !seen[j] {
-                seen[j] = true;
-                stack.push(j);
-            }
-        }
-    }
-    if reached != y {
+    if !connected(&cells) {
         return Err("the cards are not one 4-connected group".into());
     }
     let mut per_colour = [0usize; yokai_engine::MAX_COLOURS];

@@ -277,6 +277,24 @@ fn parse_name(name: &str) -> Result<ConfigSpec, ConfigError> {
 }
 
 impl Config {
+    /// Every paper configuration in a fixed order: `9c` then `16c`, 2 to 4 players, perfect
+    /// then imperfect memory (12 games). Tests, golden files, `yokai soak` and the Python
+    /// package's `configs()` list them from here.
+    pub fn presets() -> Vec<Config> {
+        let mut out = Vec::new();
+        for preset in [Preset::NineCards, Preset::SixteenCards] {
+            for players in 2..=4 {
+                for memory in [Memory::Perfect, Memory::Imperfect] {
+                    out.push(
+                        Config::preset(preset, players, memory)
+                            .expect("every preset has a hint table for 2-4 players"),
+                    );
+                }
+            }
+        }
+        out
+    }
+
     /// A paper configuration: `9c`/`16c` with 2–4 players.
     pub fn preset(preset: Preset, players: u8, memory: Memory) -> Result<Config, ConfigError> {
         if preset.hint_counts(players).is_none() {
@@ -647,6 +665,20 @@ mod tests {
             (16, 4, 10, (3, 3, 4))
         );
         assert_eq!(c16.memory(), Memory::Imperfect);
+    }
+
+    #[test]
+    fn the_presets_are_the_twelve_named_games() {
+        let names: Vec<String> = Config::presets().iter().map(|c| c.to_string()).collect();
+        let mut want = Vec::new();
+        for cards in ["9c", "16c"] {
+            for players in 2..=4 {
+                for memory in ["perfect", "imperfect"] {
+                    want.push(format!("{cards}-{players}p-{memory}"));
+                }
+            }
+        }
+        assert_eq!(names, want);
     }
 
     #[test]

@@ -104,23 +104,17 @@ pub struct GoldenGame {
 /// that never ENDs (seed 2, every turn played to the last hint).
 pub fn golden_set() -> Vec<GoldenGame> {
     let mut out = Vec::new();
-    for cards in ["9c", "16c"] {
-        for players in 2..=4 {
-            for memory in ["perfect", "imperfect"] {
-                let name = format!("{cards}-{players}p-{memory}");
-                let config = Config::from_name(&name).expect("a preset name");
-                for (seed, chooser, kind) in [
-                    (1, Chooser::Random, "random"),
-                    (2, Chooser::NeverEnd, "never-end"),
-                ] {
-                    out.push(GoldenGame {
-                        file_name: format!("{name}-seed{seed}-{kind}.txt"),
-                        config,
-                        seed,
-                        chooser,
-                    });
-                }
-            }
+    for config in Config::presets() {
+        for (seed, chooser, kind) in [
+            (1, Chooser::Random, "random"),
+            (2, Chooser::NeverEnd, "never-end"),
+        ] {
+            out.push(GoldenGame {
+                file_name: format!("{config}-seed{seed}-{kind}.txt"),
+                config,
+                seed,
+                chooser,
+            });
         }
     }
     out

@@ -10,14 +10,7 @@ use yokai_engine::*;
 /// Every preset in both memory modes, plus two custom games (5 players; a 2×2 grid where
 /// nothing can ever move).
 pub fn all_configs() -> Vec<Config> {
-    let mut out = Vec::new();
-    for v in ["9c", "16c"] {
-        for p in 2..=4 {
-            for m in ["perfect", "imperfect"] {
-                out.push(Config::from_name(&format!("{v}-{p}p-{m}")).unwrap());
-            }
-        }
-    }
+    let mut out = Config::presets();
     out.push(
         Config::from_toml_str(
             "cards = 12\ncolours = 3\ngrid = 8\nplayers = 5\nhints = [2, 3]\n",
