@@ -24,7 +24,7 @@ enum Net {
 
 /// The file a policy path names: `path` itself, or for a run directory its `policy.ykp`,
 /// else its checkpoint.
-pub(crate) fn policy_file(path: &Path) -> PathBuf {
+fn policy_file(path: &Path) -> PathBuf {
     if path.is_dir() {
         let policy = path.join(POLICY);
         if policy.exists() {
@@ -34,6 +34,44 @@ pub(crate) fn policy_file(path: &Path) -> PathBuf {
         }
     } else {
         path.to_path_buf()
+    }
+}
+
+/// A policy file, checkpoint or run directory opened and its header read: the training
+/// config and the game it was written for, and its sections (the network is `model`).
+pub(crate) struct PolicyFile {
+    pub path: PathBuf,
+    pub file: Container,
+    pub header: FileHeader,
+    pub config: TrainConfig,
+    pub game: Config,
+}
+
+impl PolicyFile {
+    pub fn open(path: &Path) -> Result<PolicyFile, TrainError> {
+        let path = policy_file(path);
+        let file = Container::read(&path)?;
+        let header = read_header(&file, &path)?;
+        let shown = path.display().to_string();
+        let config = TrainConfig::from_toml_str(&header.train_config, &shown)?;
+        let game =
+            Config::from_toml_str(&header.game, &shown).map_err(|e| TrainError::Mismatch {
+                path: shown,
+                message: format!("game config: {e}"),
+            })?;
+        Ok(PolicyFile {
+            path,
+            file,
+            header,
+            config,
+            game,
+        })
+    }
+
+    /// The `model` section loaded into `model`, which must be the same network.
+    pub fn load_into<M: burn::module::Module>(&self, model: M) -> Result<M, TrainError> {
+        let bytes = self.file.section(&self.path, "model")?;
+        load_model(model, bytes, &self.path.display().to_string())
     }
 }
 
@@ -51,35 +89,22 @@ impl TrainedPolicy {
     /// Load `path`: a policy file, a checkpoint, or a run directory (its `policy.ykp`, else
     /// its checkpoint).
     pub fn load(path: &Path) -> Result<TrainedPolicy, TrainError> {
-        let file_path = policy_file(path);
-        let file = Container::read(&file_path)?;
-        let header = read_header(&file, &file_path)?;
-        let shown = file_path.display().to_string();
-        let config = TrainConfig::from_toml_str(&header.train_config, &shown)?;
-        let game =
-            Config::from_toml_str(&header.game, &shown).map_err(|e| TrainError::Mismatch {
-                path: shown.clone(),
-                message: format!("game config: {e}"),
-            })?;
+        let opened = PolicyFile::open(path)?;
         let device = default_device();
-        let bytes = file.section(&file_path, "model")?;
+        let (config, game) = (&opened.config, &opened.game);
         let net = match config.network.preset {
-            NetworkPreset::Paper => Net::Paper(Box::new(load_model(
-                ActorCritic::new(&config, &game, 0, &device),
-                bytes,
-                &shown,
-            )?)),
-            NetworkPreset::Compact => Net::Compact(Box::new(load_model(
-                ActorCritic::new(&config, &game, 0, &device),
-                bytes,
-                &shown,
-            )?)),
+            NetworkPreset::Paper => Net::Paper(Box::new(
+                opened.load_into(ActorCritic::new(config, game, 0, &device))?,
+            )),
+            NetworkPreset::Compact => Net::Compact(Box::new(
+                opened.load_into(ActorCritic::new(config, game, 0, &device))?,
+            )),
         };
         Ok(TrainedPolicy {
             net,
-            game,
-            header,
-            path: file_path,
+            game: opened.game,
+            header: opened.header,
+            path: opened.path,
             device,
         })
     }

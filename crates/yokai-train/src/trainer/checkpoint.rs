@@ -201,29 +201,19 @@ pub(super) fn initial_weights<M: Module>(
     config: &TrainConfig,
     game: &Config,
 ) -> Result<M, TrainError> {
-    let file_path = crate::policy::policy_file(path);
-    let shown = file_path.display().to_string();
-    let mismatch = |message: String| TrainError::Mismatch {
-        path: format!("run.init_from {shown}"),
-        message,
-    };
-    let file = Container::read(&file_path)?;
-    let header = read_header(&file, &file_path)?;
-    let theirs = TrainConfig::from_toml_str(&header.train_config, &shown)?;
-    if theirs.network != config.network {
-        return Err(mismatch(format!(
-            "holds a different network ({:?}) from this config's ({:?})",
-            theirs.network, config.network
-        )));
+    let opened = crate::policy::PolicyFile::open(path)?;
+    let from = std::path::PathBuf::from(format!("run.init_from {}", opened.path.display()));
+    if opened.config.network != config.network {
+        return Err(TrainError::Mismatch {
+            path: from.display().to_string(),
+            message: format!(
+                "holds a different network ({:?}) from this config's ({:?})",
+                opened.config.network, config.network
+            ),
+        });
     }
-    let their_game = Config::from_toml_str(&header.game, &shown)
-        .map_err(|e| mismatch(format!("game config: {e}")))?;
-    if their_game != *game {
-        return Err(mismatch(format!(
-            "was trained on {their_game}, this config plays {game}"
-        )));
-    }
-    load_model(model, file.section(&file_path, "model")?, &shown)
+    crate::policy::check_game(&from, &opened.game, game)?;
+    opened.load_into(model)
 }
 
 /// Every float parameter of a module, flattened in visiting order.
