@@ -616,6 +616,12 @@ fn the_belief_loss_learns_to_name_the_colours_a_seat_has_seen() {
         last > 0.45 && last > first + 0.05,
         "colour accuracy {first:.3} in updates 1-3, {last:.3} in updates 28-30"
     );
+    // Yet no seat can name every colour after 30 tiny updates: near-perfect accuracy would
+    // mean the targets the learner reads are not the true colours (0.56 on this run).
+    assert!(
+        last < 0.9,
+        "colour accuracy {last:.3}: the targets are not the colours"
+    );
     assert!(with[29].belief_loss.unwrap() < with[0].belief_loss.unwrap());
     // Off: no figures, and no colour layer in the network (old policy files still load).
     let (without, without_params) = run(0.0);

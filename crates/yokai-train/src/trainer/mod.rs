@@ -370,10 +370,13 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
     pub fn update(&mut self) -> Result<UpdateStats, TrainError> {
         let start = std::time::Instant::now();
         let c = self.config.ppo.clone();
-        let frac = 1.0 - self.progress();
-        let lr = if c.anneal_lr { c.lr * frac } else { c.lr };
-        let shaping =
-            c.shaping as f64 * (1.0 - self.progress() / c.shaping_fraction as f64).max(0.0);
+        let progress = self.progress();
+        let lr = if c.anneal_lr {
+            c.lr * (1.0 - progress)
+        } else {
+            c.lr
+        };
+        let shaping = c.shaping as f64 * (1.0 - progress / c.shaping_fraction as f64).max(0.0);
         // One generator per update serves the action draws, then the minibatch order.
         let mut rng = ChaCha8Rng::seed_from_u64(derive_seed(self.seed, self.state.update));
         let rollout = self.collect(shaping, &mut rng)?;

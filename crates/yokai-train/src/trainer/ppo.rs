@@ -177,7 +177,8 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             let (logits, colour_logits) = self
                 .model
                 .policy_and_colour_logits(row_obs, states.select(0, idx));
-            if let (Some(colour_logits), true) = (colour_logits, c.belief_aux > 0.0) {
+            // The network has a colour layer exactly when `belief_aux` > 0.
+            if let Some(colour_logits) = colour_logits {
                 let truth = Tensor::<3>::from_data(TensorData::new(truth, [n, y, colours]), d);
                 let log_p = log_softmax(colour_logits, 2);
                 belief_accuracy = colour_accuracy(log_p.clone(), truth.clone());

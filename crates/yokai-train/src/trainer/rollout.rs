@@ -37,7 +37,8 @@ pub(super) struct Rollout {
     /// step (`[T × rows]`; meaningful where the row's mask allows END). Empty when off.
     pub end_rewards: Vec<f32>,
     /// With `belief_aux`: per step, row and card, the card's true colour as the row's seat
-    /// sees colours (its symmetry's relabelling applied), `[T × rows × Y]`. Empty when off.
+    /// sees colours (its symmetry's relabelling applied), `[T × rows × Y]`, filled for the
+    /// acting seats' rows only. Empty when off.
     pub truth: Vec<u8>,
 }
 
@@ -115,8 +116,11 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             let logits = to_vec(out.logits);
             values[t * rows..][..rows].copy_from_slice(&to_vec(out.values));
             let acting = self.env.acting_seats().to_vec();
+            // Learning reads the belief targets of the rows that choose, which are the
+            // acting seats' rows: the waiting seats' are left at 0.
             if !truth.is_empty() {
-                for r in 0..rows {
+                for (i, &seat) in acting.iter().enumerate() {
+                    let r = i * p + seat as usize;
                     self.view_truth(r, &mut truth[(t * rows + r) * y..][..y]);
                 }
             }
