@@ -428,6 +428,13 @@ impl TrainConfig {
 mod tests {
     use super::*;
 
+    /// The error message for a config that must be refused.
+    fn refused(text: &str, origin: &str) -> String {
+        TrainConfig::from_toml_str(text, origin)
+            .unwrap_err()
+            .to_string()
+    }
+
     #[test]
     fn defaults_are_the_papers_ippo() {
         let c = TrainConfig::from_toml_str("", "test").unwrap();
@@ -450,51 +457,33 @@ mod tests {
 
     #[test]
     fn the_pointer_head_needs_the_compact_network() {
-        let e = TrainConfig::from_toml_str("[network]\nhead = \"pointer\"\n", "p.toml")
-            .unwrap_err()
-            .to_string();
+        let e = refused("[network]\nhead = \"pointer\"\n", "p.toml");
         assert!(e.contains("network.head") && e.contains("compact"), "{e}");
         let ok = "[network]\nhead = \"pointer\"\npreset = \"compact\"\n";
         assert!(TrainConfig::from_toml_str(ok, "p.toml").is_ok());
         let pooled = format!("{ok}pointer_pool = true\n");
         assert!(TrainConfig::from_toml_str(&pooled, "p.toml").is_ok());
-        let e = TrainConfig::from_toml_str("[network]\npointer_pool = true\n", "p.toml")
-            .unwrap_err()
-            .to_string();
+        let e = refused("[network]\npointer_pool = true\n", "p.toml");
         assert!(e.contains("network.pointer_pool"), "{e}");
     }
 
     #[test]
     fn unknown_keys_and_bad_values_name_the_field() {
-        let e = TrainConfig::from_toml_str("[ppo]\nlearning_rate = 1.0\n", "x.toml")
-            .unwrap_err()
-            .to_string();
+        let e = refused("[ppo]\nlearning_rate = 1.0\n", "x.toml");
         assert!(e.contains("x.toml") && e.contains("learning_rate"), "{e}");
-        let e = TrainConfig::from_toml_str("[ppo]\nnum_envs = 0\n", "x.toml")
-            .unwrap_err()
-            .to_string();
+        let e = refused("[ppo]\nnum_envs = 0\n", "x.toml");
         assert!(e.contains("ppo.num_envs"), "{e}");
-        let e = TrainConfig::from_toml_str("game = \"7c\"\n", "x.toml")
-            .unwrap_err()
-            .to_string();
+        let e = refused("game = \"7c\"\n", "x.toml");
         assert!(e.contains("game"), "{e}");
         for bad in ["0.0", "1.5", "-0.1", "nan"] {
-            let e = TrainConfig::from_toml_str(&format!("[ppo]\nshaping_fraction = {bad}\n"), "x")
-                .unwrap_err()
-                .to_string();
+            let e = refused(&format!("[ppo]\nshaping_fraction = {bad}\n"), "x");
             assert!(e.contains("ppo.shaping_fraction"), "{bad}: {e}");
         }
-        let e = TrainConfig::from_toml_str("[ppo]\nbelief_aux = 0.5\n", "x")
-            .unwrap_err()
-            .to_string();
+        let e = refused("[ppo]\nbelief_aux = 0.5\n", "x");
         assert!(e.contains("ppo.belief_aux") && e.contains("pointer"), "{e}");
-        let e = TrainConfig::from_toml_str("[ppo]\nbelief_aux = -1.0\n", "x")
-            .unwrap_err()
-            .to_string();
+        let e = refused("[ppo]\nbelief_aux = -1.0\n", "x");
         assert!(e.contains("ppo.belief_aux"), "{e}");
-        let e = TrainConfig::from_toml_str("[ppo]\nend_lookahead_form = \"fast\"\n", "x")
-            .unwrap_err()
-            .to_string();
+        let e = refused("[ppo]\nend_lookahead_form = \"fast\"\n", "x");
         assert!(e.contains("fast") && e.contains("target"), "{e}");
     }
 

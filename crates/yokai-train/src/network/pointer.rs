@@ -251,6 +251,12 @@ mod tests {
     use rand_chacha::ChaCha8Rng;
     use yokai_engine::{Action, Card, Cell, Game, Part, Seat};
 
+    /// A head for a GRU state of width 8, without the colour layer.
+    fn small_head(game: &Config, pool: bool, gain: f64, seed: u64) -> PointerHead {
+        let device = Device::flex();
+        PointerHead::new(game, 8, pool, false, gain, &mut Init::new(seed), &device)
+    }
+
     fn to_vec<const D: usize>(t: Tensor<D>) -> Vec<f32> {
         t.into_data()
             .convert::<f32>()
@@ -265,15 +271,7 @@ mod tests {
         let device = Device::flex();
         for name in ["9c-2p-perfect", "16c-3p-perfect"] {
             let game_config = Config::from_name(name).unwrap();
-            let head = PointerHead::new(
-                &game_config,
-                8,
-                false,
-                false,
-                0.01,
-                &mut Init::new(1),
-                &device,
-            );
+            let head = small_head(&game_config, false, 0.01, 1);
             let [nodes, f] = game_config.node_shape(Part::Full);
             let (y, g) = (game_config.cards(), game_config.grid());
             let mut rng = ChaCha8Rng::seed_from_u64(7);
@@ -362,15 +360,7 @@ mod tests {
         changed[4 * f + known] = 1.0 - changed[4 * f + known];
         let end = game_config.encode(Action::End);
         for pool in [false, true] {
-            let head = PointerHead::new(
-                &game_config,
-                8,
-                pool,
-                false,
-                1.0,
-                &mut Init::new(2),
-                &device,
-            );
+            let head = small_head(&game_config, pool, 1.0, 2);
             let h: Tensor<2> = Tensor::ones([1, 8], &device);
             let end_logit = |x: &[f32]| {
                 let obs = Tensor::from_data(TensorData::new(x.to_vec(), [1, nodes * f]), &device);
