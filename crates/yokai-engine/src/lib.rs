@@ -75,6 +75,7 @@ pub mod action;
 pub mod bitboard;
 pub mod config;
 pub mod deal;
+pub mod digest;
 pub mod episode;
 pub mod game;
 mod legal;

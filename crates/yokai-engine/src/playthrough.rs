@@ -8,6 +8,7 @@
 use crate::action::Action;
 use crate::config::Config;
 use crate::deal::derive_seed;
+use crate::digest::fnv1a;
 use crate::game::Game;
 use crate::observation::{ImageLayout, Part};
 use crate::render::render_truth;
@@ -41,10 +42,9 @@ pub fn playthrough(config: Config, seed: u64, chooser: Chooser) -> String {
          {} actions",
         config.num_actions()
     );
-    let mut step = 0;
     while !game.is_over() {
         let seat = game.current_seat();
-        let _ = writeln!(out, "\n## step {step}");
+        let _ = writeln!(out, "\n## step {}", game.steps());
         out += &render_truth(&game);
         let legal = game.legal_actions(seat);
         let indices: Vec<usize> = legal.iter().map(|&a| config.encode(a)).collect();
@@ -75,9 +75,8 @@ pub fn playthrough(config: Config, seed: u64, chooser: Chooser) -> String {
             result.shaping,
             result.done
         );
-        step += 1;
     }
-    let _ = writeln!(out, "\n## end after {step} steps");
+    let _ = writeln!(out, "\n## end after {} steps", game.steps());
     out += &render_truth(&game);
     for s in 0..config.players() {
         let _ = writeln!(out, "{}", digests(&game, Seat(s as u8)));
@@ -139,7 +138,7 @@ fn ranges(indices: &[usize]) -> String {
     parts.join(", ")
 }
 
-/// One line per seat: an FNV-1a digest of each encoding of its observation (image in both
+/// One line per seat: an FNV-1a digest (`digest::fnv1a`) of each encoding of its observation (image in both
 /// memory orders and every part as u8, graph nodes as f32 in every part, adjacency).
 fn digests(game: &Game, seat: Seat) -> String {
     let config = game.config();
@@ -154,27 +153,20 @@ fn digests(game: &Game, seat: Seat) -> String {
             let mut image = vec![0u8; config.image_shape_in(part, layout).iter().product()];
             view.write_image_in(part, layout, &mut image)
                 .expect("buffer of the image's size");
-            let _ = write!(line, " image-{layout_name}-{name} {:016x}", fnv(&image));
+            let _ = write!(line, " image-{layout_name}-{name} {:016x}", fnv1a(&image));
         }
         let mut nodes = vec![0f32; config.node_shape(part).iter().product()];
         view.write_nodes(part, &mut nodes)
             .expect("buffer of the nodes' size");
         let bytes: Vec<u8> = nodes.iter().flat_map(|x| x.to_le_bytes()).collect();
-        let _ = write!(line, " nodes-{name} {:016x}", fnv(&bytes));
+        let _ = write!(line, " nodes-{name} {:016x}", fnv1a(&bytes));
     }
     let y = config.cards();
     let mut adjacency = vec![0u8; y * y];
     view.write_adjacency(&mut adjacency)
         .expect("buffer of the adjacency's size");
-    let _ = write!(line, " adjacency {:016x}", fnv(&adjacency));
+    let _ = write!(line, " adjacency {:016x}", fnv1a(&adjacency));
     line
-}
-
-/// 64-bit FNV-1a: a stable, dependency-free digest (not for security, only to notice change).
-fn fnv(bytes: &[u8]) -> u64 {
-    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
-        (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3)
-    })
 }
 
 #[cfg(test)]
@@ -186,12 +178,5 @@ mod tests {
         assert_eq!(ranges(&[2, 3, 4, 7, 9, 10]), "2-4, 7, 9-10");
         assert_eq!(ranges(&[0]), "0");
         assert_eq!(ranges(&[]), "");
-    }
-
-    #[test]
-    fn fnv_matches_the_published_test_vectors() {
-        assert_eq!(fnv(b""), 0xcbf29ce484222325);
-        assert_eq!(fnv(b"a"), 0xaf63dc4c8601ec8c);
-        assert_eq!(fnv(b"foobar"), 0x85944171f73967e8);
     }
 }

@@ -11,6 +11,7 @@
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
+use yokai_engine::digest::{fnv1a, Fnv1a};
 
 const MAGIC: &[u8] = b"YOKAI-TRAIN\n";
 const VERSION: u32 = 2;
@@ -39,22 +40,10 @@ pub struct Container {
     pub sections: Vec<(String, Vec<u8>)>,
 }
 
-fn fnv1a(data: &[u8]) -> u64 {
-    fnv1a_from(0xcbf2_9ce4_8422_2325, data)
-}
-
-fn fnv1a_from(mut h: u64, data: &[u8]) -> u64 {
-    for &b in data {
-        h ^= b as u64;
-        h = h.wrapping_mul(0x0100_0000_01b3);
-    }
-    h
-}
-
 /// A section's checksum: of its name and data from version 2, of its data in version 1.
 fn section_sum(version: u32, name: &[u8], data: &[u8]) -> u64 {
     if version >= 2 {
-        fnv1a_from(fnv1a(name), data)
+        Fnv1a::default().update(name).update(data).finish()
     } else {
         fnv1a(data)
     }
