@@ -35,13 +35,9 @@ impl PyEnv {
     }
 
     fn seat(&self, seat: Option<i64>) -> PyResult<Seat> {
-        let players = self.config_ref().players();
         match seat {
             None => Ok(self.game().current_seat()),
-            Some(s) if (0..players as i64).contains(&s) => Ok(Seat(s as u8)),
-            Some(s) => Err(PyValueError::new_err(format!(
-                "there is no seat {s} in a {players}-player game"
-            ))),
+            Some(s) => crate::errors::seat(s, self.config_ref().players()),
         }
     }
 

@@ -41,3 +41,15 @@ pub fn illegal(e: impl std::fmt::Display) -> PyErr {
 pub fn replay_error(e: impl std::fmt::Display) -> PyErr {
     ReplayError::new_err(e.to_string())
 }
+
+/// Seat `seat` of a `players`-player game, or a ValueError naming it (Python ints may be
+/// negative or huge, so the check is on `i64`).
+pub fn seat(seat: i64, players: usize) -> pyo3::PyResult<yokai_engine::Seat> {
+    if (0..players as i64).contains(&seat) {
+        Ok(yokai_engine::Seat(seat as u8))
+    } else {
+        Err(PyValueError::new_err(format!(
+            "there is no seat {seat} in a {players}-player game"
+        )))
+    }
+}

@@ -6,7 +6,7 @@ use numpy::PyArrayDyn;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use yokai_engine::{render_seat, render_truth, Config, Outcome, Seat};
+use yokai_engine::{render_seat, render_truth, Config, Outcome};
 use yokai_vec::{Encoding, VecEnv as RustVecEnv, VecEnvOptions, VecError};
 
 /// The batched environment in the dtype the caller chose.
@@ -287,13 +287,7 @@ impl PyVecEnv {
             let game = e.game(env as usize);
             match seat {
                 None => Ok(render_truth(game)),
-                Some(s) if (0..self.config.players() as i64).contains(&s) => {
-                    Ok(render_seat(game, Seat(s as u8)))
-                }
-                Some(s) => Err(PyValueError::new_err(format!(
-                    "there is no seat {s} in a {}-player game",
-                    self.config.players()
-                ))),
+                Some(s) => Ok(render_seat(game, crate::errors::seat(s, self.config.players())?)),
             }
         })
     }
