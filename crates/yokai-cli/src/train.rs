@@ -121,9 +121,6 @@ pub fn run(args: Args) -> Result<(), String> {
     if let Some(steps) = args.steps {
         config.ppo.total_steps = steps;
     }
-    if let Some(t) = args.threads {
-        config.run.threads = t;
-    }
     config.validate("config").map_err(|e| e.to_string())?;
     let out = args
         .out
