@@ -52,9 +52,11 @@ fn metrics_without_timings(run: &Path) -> Vec<serde_json::Value> {
 
 #[test]
 fn a_run_killed_twenty_times_and_resumed_equals_an_uninterrupted_run() {
-    let dir = std::env::temp_dir().join(format!("yokai-crash-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let tmp = tempfile::Builder::new()
+        .prefix("yokai-crash-")
+        .tempdir()
+        .unwrap();
+    let dir = tmp.path();
     let config = dir.join("tiny.toml");
     std::fs::write(&config, CONFIG).unwrap();
 
@@ -134,5 +136,4 @@ fn a_run_killed_twenty_times_and_resumed_equals_an_uninterrupted_run() {
         "--resume",
     ]);
     assert!(err.contains("checkpoint.ykc"), "{err}");
-    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -18,7 +18,11 @@ fn same_policies_and_seed_give_the_same_tables() {
 
 #[test]
 fn outputs_land_in_the_directory() {
-    let dir = std::env::temp_dir().join(format!("yokai-eval-{}", std::process::id()));
+    let tmp = tempfile::Builder::new()
+        .prefix("yokai-eval-")
+        .tempdir()
+        .unwrap();
+    let dir = tmp.path();
     yokai_ok(&[
         "eval",
         "greedy",
@@ -38,7 +42,6 @@ fn outputs_land_in_the_directory() {
     assert!(std::fs::read_to_string(dir.join("report.md"))
         .unwrap()
         .starts_with("# Evaluation"));
-    std::fs::remove_dir_all(dir).ok();
 }
 
 #[test]

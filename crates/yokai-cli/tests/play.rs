@@ -4,7 +4,6 @@ mod common;
 use common::{yokai, yokai_err, yokai_ok};
 
 use std::io::Write;
-use std::path::PathBuf;
 use std::process::{Command, Output, Stdio};
 
 fn yokai_with_input(args: &[&str], input: &str) -> Output {
@@ -20,11 +19,13 @@ fn yokai_with_input(args: &[&str], input: &str) -> Output {
     child.wait_with_output().expect("finishes")
 }
 
-fn tempdir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("yokai-cli-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+/// A fresh directory under the system's temporary folder, removed when the guard drops
+/// (also when the test fails), so test runs leave nothing behind.
+fn tempdir(name: &str) -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("yokai-cli-{name}-"))
+        .tempdir()
+        .unwrap()
 }
 
 fn text(o: &Output) -> String {
@@ -37,7 +38,8 @@ fn text(o: &Output) -> String {
 
 #[test]
 fn scripted_line_mode_game_finishes_and_saves_a_replay_that_renders() {
-    let dir = tempdir("play");
+    let tmp = tempdir("play");
+    let dir = tmp.path();
     let save = dir.join("game.jsonl");
     // Observe card by name first, then always the first listed action (a game of both
     // seats: the human's turns and the belief bot's in between), with one bad line.
@@ -114,7 +116,8 @@ fn input_that_ends_too_early_and_bad_seats_are_clear_errors() {
 
 #[test]
 fn a_broken_replay_names_the_file_and_line() {
-    let dir = tempdir("broken");
+    let tmp = tempdir("broken");
+    let dir = tmp.path();
     let path = dir.join("bad.jsonl");
     std::fs::write(&path, "{\"type\":\"step\"}\n").unwrap();
     let err = yokai_err(&["replay", path.to_str().unwrap()]);
@@ -123,7 +126,8 @@ fn a_broken_replay_names_the_file_and_line() {
 
 #[test]
 fn train_then_eval_a_run_directory() {
-    let dir = tempdir("train");
+    let tmp = tempdir("train");
+    let dir = tmp.path();
     let config = dir.join("tiny.toml");
     std::fs::write(
         &config,
@@ -273,7 +277,8 @@ fn train_then_eval_a_run_directory() {
 
 #[test]
 fn train_device_errors_name_the_device_and_leave_no_run() {
-    let dir = tempdir("train-device");
+    let tmp = tempdir("train-device");
+    let dir = tmp.path();
     let out = dir.join("runs");
     let e = yokai_err(&[
         "train",

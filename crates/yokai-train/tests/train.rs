@@ -130,7 +130,8 @@ fn same_seed_same_weights_and_the_value_loss_falls() {
 
 #[test]
 fn resume_continues_exactly_like_an_uninterrupted_run() {
-    let dir = tempdir("resume");
+    let tmp = tempdir("resume");
+    let dir = tmp.path();
     let config = tiny(SymmetrySet::Both, 4);
     let whole = one_thread(|| {
         let mut t = Trainer::<MlpEncoder>::new(config.clone(), 9).unwrap();
@@ -160,7 +161,8 @@ fn resume_continues_exactly_like_an_uninterrupted_run() {
 
 #[test]
 fn a_run_directory_holds_config_metrics_checkpoint_and_a_playable_policy() {
-    let dir = tempdir("run").join("seed-0");
+    let tmp = tempdir("run");
+    let dir = tmp.path().join("seed-0");
     let config = tiny(SymmetrySet::None, 3);
     let request = |config, resume, max_updates| RunRequest {
         config,
@@ -228,7 +230,8 @@ fn a_run_directory_holds_config_metrics_checkpoint_and_a_playable_policy() {
 
 #[test]
 fn corrupt_and_mismatched_files_give_clear_errors() {
-    let dir = tempdir("bad");
+    let tmp = tempdir("bad");
+    let dir = tmp.path();
     let t = Trainer::<MlpEncoder>::new(tiny(SymmetrySet::None, 1), 0).unwrap();
     let ckpt = dir.join("ckpt.ykc");
     t.checkpoint().write_atomic(&ckpt).unwrap();
@@ -286,17 +289,13 @@ fn err<T>(r: Result<T, TrainError>) -> String {
     }
 }
 
-fn tempdir(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!(
-        "yokai-train-test-{}-{name}-{}",
-        std::process::id(),
-        std::time::SystemTime::now()
-            .duration_since(std::time::UNIX_EPOCH)
-            .unwrap()
-            .as_nanos()
-    ));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+/// A fresh directory under the system's temporary folder, removed when the guard drops
+/// (also when the test fails), so test runs leave nothing behind.
+fn tempdir(name: &str) -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("yokai-train-test-{name}-"))
+        .tempdir()
+        .unwrap()
 }
 
 #[test]
@@ -504,7 +503,8 @@ fn the_shaping_anneals_over_the_share_of_the_run_it_is_given() {
 
 #[test]
 fn a_run_can_start_from_a_trained_policy_and_resumes_without_it() {
-    let dir = tempdir("init");
+    let tmp = tempdir("init");
+    let dir = tmp.path();
     let first = tiny(SymmetrySet::None, 2);
     let source = one_thread(|| {
         let mut t = Trainer::<MlpEncoder>::new(first.clone(), 3).unwrap();
