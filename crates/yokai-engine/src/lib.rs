@@ -77,6 +77,7 @@ pub mod config;
 pub mod deal;
 pub mod digest;
 pub mod episode;
+pub mod fictitious;
 pub mod game;
 mod legal;
 pub mod metrics;

@@ -68,6 +68,22 @@ impl Encoding {
         self.shape(config).iter().product()
     }
 
+    /// Write `seat`'s observation of `game` in this encoding: the values the batched
+    /// environment writes for that seat, for a game stepped outside it (Off-Belief
+    /// Learning's fictitious games). Builds the image background on the fly.
+    pub fn write<T: Scalar>(
+        &self,
+        game: &Game,
+        seat: Seat,
+        out: &mut [T],
+    ) -> Result<(), yokai_engine::BufferError> {
+        match *self {
+            Encoding::Image(part, layout) => game.write_image_in(seat, part, layout, out),
+            Encoding::Graph(part) => game.write_nodes(seat, part, out),
+            Encoding::None => Ok(()),
+        }
+    }
+
     /// Parse `image`, `image-public`, `image-private` (each with an optional `-chw` for the
     /// channels-first layout, e.g. `image-public-chw`), `graph`, `graph-public`,
     /// `graph-private` or `none`.

@@ -41,13 +41,7 @@ fn run<T: Scalar + Default>(config: Config, encoding: Encoding, threads: usize, 
                     "mask env {i} seat {s} step {step}"
                 );
                 let mut o = vec![T::ZERO; obs_len];
-                match encoding {
-                    Encoding::Image(part, layout) => {
-                        game.write_image_in(seat, part, layout, &mut o).unwrap()
-                    }
-                    Encoding::Graph(part) => game.write_nodes(seat, part, &mut o).unwrap(),
-                    Encoding::None => {}
-                }
+                encoding.write(game, seat, &mut o).unwrap();
                 assert!(
                     env.observations()[(i * p + s) * obs_len..][..obs_len] == o[..],
                     "obs env {i} seat {s} step {step}"
