@@ -20,6 +20,7 @@ macro_rules! presets {
 const PRESETS: &[(&str, &str)] = presets!(
     "quick",
     "quick-op",
+    "obl-quick",
     "cpu",
     "ippo-9c-2p",
     "he-9c-2p",

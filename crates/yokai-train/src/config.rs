@@ -17,7 +17,21 @@ pub struct TrainConfig {
     pub algorithm: AlgorithmConfig,
     pub network: NetworkConfig,
     pub ppo: PpoConfig,
+    /// Off-Belief Learning (off unless `obl.level` ≥ 1).
+    pub obl: OblConfig,
     pub run: RunConfig,
+}
+
+/// Off-Belief Learning (docs/training.md): the value target of each of a seat's actions
+/// comes from a fictitious continuation in a world drawn from the seat's belief, played on
+/// by the previous level's policy.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct OblConfig {
+    /// 0: off (IPPO, HE, OP). 1: level 1, whose previous level is uniform random play and
+    /// whose belief is exact (uniform over the colourings consistent with the seat's
+    /// first-hand colours). Higher levels need a belief model trained on the level below.
+    pub level: u32,
 }
 
 /// Which of the paper's algorithms; they differ only in these fields.
@@ -206,6 +220,7 @@ impl Default for TrainConfig {
             algorithm: AlgorithmConfig::default(),
             network: NetworkConfig::default(),
             ppo: PpoConfig::default(),
+            obl: OblConfig::default(),
             run: RunConfig::default(),
         }
     }
@@ -417,6 +432,34 @@ impl TrainConfig {
         if self.network.pointer_pool && self.network.head != ActionHead::Pointer {
             return bad("network.pointer_pool", "needs network.head = \"pointer\"");
         }
+        if self.obl.level > 1 {
+            return bad(
+                "obl.level",
+                "above 1 needs a belief model trained on the level below, which is not built \
+                 yet; level 1 (exact belief, uniform random level 0) is",
+            );
+        }
+        if self.obl.level == 1 {
+            if self.algorithm.symmetries != SymmetrySet::None {
+                return bad(
+                    "obl.level",
+                    "OBL trains without Other-Play symmetries: set algorithm.symmetries = \"none\"",
+                );
+            }
+            if p.end_lookahead > 0.0 {
+                return bad(
+                    "ppo.end_lookahead",
+                    "reads what END pays with the true colours; under OBL ending is valued in \
+                     the fictitious game instead: set it to 0",
+                );
+            }
+            if p.cluster_shaping > 0.0 {
+                return bad(
+                    "ppo.cluster_shaping",
+                    "is not paid in OBL's fictitious continuations: set it to 0",
+                );
+            }
+        }
         if self.run.checkpoint_every == 0 || self.run.log_every == 0 {
             return bad("run.checkpoint_every / run.log_every", "must be at least 1");
         }
@@ -485,6 +528,22 @@ mod tests {
         assert!(e.contains("ppo.belief_aux"), "{e}");
         let e = refused("[ppo]\nend_lookahead_form = \"fast\"\n", "x");
         assert!(e.contains("fast") && e.contains("target"), "{e}");
+        // Off-Belief Learning: level 1 only for now, without what reads the true colours.
+        let e = refused("[obl]\nlevel = 2\n", "x");
+        assert!(e.contains("obl.level") && e.contains("belief model"), "{e}");
+        let e = refused(
+            "[algorithm]\nsymmetries = \"colour\"\n[obl]\nlevel = 1\n",
+            "x",
+        );
+        assert!(e.contains("obl.level") && e.contains("symmetries"), "{e}");
+        let e = refused("[ppo]\nend_lookahead = 0.5\n[obl]\nlevel = 1\n", "x");
+        assert!(
+            e.contains("ppo.end_lookahead") && e.contains("fictitious"),
+            "{e}"
+        );
+        let e = refused("[ppo]\ncluster_shaping = 1.0\n[obl]\nlevel = 1\n", "x");
+        assert!(e.contains("ppo.cluster_shaping"), "{e}");
+        assert!(TrainConfig::from_toml_str("[obl]\nlevel = 1\n", "x").is_ok());
     }
 
     #[test]

@@ -11,6 +11,7 @@ pub mod file;
 pub mod gae;
 pub mod init;
 pub mod network;
+pub mod obl;
 pub mod trainer;
 
 pub use backend::{Backend, BackendError};

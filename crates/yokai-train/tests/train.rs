@@ -128,35 +128,41 @@ fn same_seed_same_weights_and_the_value_loss_falls() {
     );
 }
 
+/// Exact resume, for Other-Play (per-seat symmetries drawn by episode) and for Off-Belief
+/// Learning level 1 (beliefs and level-0 moves drawn by step).
 #[test]
 fn resume_continues_exactly_like_an_uninterrupted_run() {
     let tmp = tempdir("resume");
     let dir = tmp.path();
-    let config = tiny(SymmetrySet::Both, 4);
-    let whole = one_thread(|| {
-        let mut t = Trainer::<MlpEncoder>::new(config.clone(), 9).unwrap();
-        for _ in 0..4 {
-            t.update().unwrap();
-        }
-        t.parameters()
-    });
-    let resumed = one_thread(|| {
-        let mut t = Trainer::<MlpEncoder>::new(config.clone(), 9).unwrap();
-        for _ in 0..2 {
-            t.update().unwrap();
-        }
-        let path = dir.join("ckpt.ykc");
-        t.checkpoint().write_atomic(&path).unwrap();
-        drop(t);
-        let mut t = Trainer::<MlpEncoder>::resume(&path).unwrap();
-        assert_eq!(t.update_count(), 2);
-        for _ in 0..2 {
-            t.update().unwrap();
-        }
-        assert!(t.is_done());
-        t.parameters()
-    });
-    assert_eq!(whole, resumed);
+    let mut obl = tiny(SymmetrySet::None, 4);
+    obl.obl.level = 1;
+    for config in [tiny(SymmetrySet::Both, 4), obl] {
+        let whole = one_thread(|| {
+            let mut t = Trainer::<MlpEncoder>::new(config.clone(), 9).unwrap();
+            for _ in 0..4 {
+                let s = t.update().unwrap();
+                assert!(s.replay_error < 1e-4, "{}", s.replay_error);
+            }
+            t.parameters()
+        });
+        let resumed = one_thread(|| {
+            let mut t = Trainer::<MlpEncoder>::new(config.clone(), 9).unwrap();
+            for _ in 0..2 {
+                t.update().unwrap();
+            }
+            let path = dir.join("ckpt.ykc");
+            t.checkpoint().write_atomic(&path).unwrap();
+            drop(t);
+            let mut t = Trainer::<MlpEncoder>::resume(&path).unwrap();
+            assert_eq!(t.update_count(), 2);
+            for _ in 0..2 {
+                t.update().unwrap();
+            }
+            assert!(t.is_done());
+            t.parameters()
+        });
+        assert_eq!(whole, resumed, "obl level {}", config.obl.level);
+    }
 }
 
 #[test]

@@ -16,6 +16,7 @@
 //! state and the update that joins them.
 
 mod checkpoint;
+mod obl;
 mod ppo;
 mod rollout;
 
@@ -54,6 +55,9 @@ pub enum TrainError {
     Record { path: String, message: String },
     #[error("{path}: {message}")]
     Io { path: String, message: String },
+    /// An Off-Belief Learning continuation that could not be built (a bug, named).
+    #[error("off-belief learning: {0}")]
+    Obl(String),
     #[error(
         "{path} was trained on {trained}, not on {game}: its observations and actions do not fit"
     )]

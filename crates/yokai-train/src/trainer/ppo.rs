@@ -85,6 +85,8 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         let mut keep = Vec::with_capacity(bm * t_len);
         let mut old_v = Vec::with_capacity(bm * t_len);
         let mut ret = Vec::with_capacity(bm * t_len);
+        // With OBL, 1 on the rows that carry a value target (empty: all do).
+        let mut value_weight = Vec::with_capacity(ro.value_weight.len().min(bm * t_len));
         let mut h0 = Vec::with_capacity(bm * hsz);
         // Rows with one legal action (seats waiting for their turn, or a forced NOOP) carry
         // no policy gradient: the actor head, the policy loss and the entropy skip them, so
@@ -111,6 +113,9 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
                 keep.push(ro.keeps[i]);
                 old_v.push(ro.values[i]);
                 ret.push(ro.returns[i]);
+                if !ro.value_weight.is_empty() {
+                    value_weight.push(ro.value_weight[i]);
+                }
                 if ro.legal[i] > 1 {
                     choosing.push((j * t_len + t) as i64);
                     masks.extend_from_slice(&ro.masks[i * na..][..na]);
@@ -155,11 +160,15 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         let ret = tensor1(ret, d);
         let v = self.model.values(states.clone());
         let v_clipped = old_v.clone() + (v.clone() - old_v).clamp(-c.value_clip, c.value_clip);
-        let value_loss = (v - ret.clone())
+        let per_row = (v - ret.clone())
             .square()
-            .max_pair((v_clipped - ret).square())
-            .mean()
-            * 0.5;
+            .max_pair((v_clipped - ret).square());
+        let value_loss = if value_weight.is_empty() {
+            per_row.mean()
+        } else {
+            let rows = value_weight.iter().sum::<f32>().max(1.0);
+            (per_row * tensor1(value_weight, d)).sum() / rows
+        } * 0.5;
         let n = choosing.len();
         let zero = Tensor::<1>::zeros([1], d).sum();
         let mut belief_loss = zero.clone();

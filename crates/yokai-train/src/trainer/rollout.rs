@@ -40,6 +40,10 @@ pub(super) struct Rollout {
     /// sees colours (its symmetry's relabelling applied), `[T × rows × Y]`, filled for the
     /// acting seats' rows only. Empty when off.
     pub truth: Vec<u8>,
+    /// With Off-Belief Learning: 1 on the rows whose value target is an OBL target (the
+    /// acting seats'), 0 on the others, whose value loss is off (`[T × rows]`). Empty
+    /// otherwise: every row learns its value.
+    pub value_weight: Vec<f32>,
 }
 
 impl<E: Encoder, M: Recurrent> Trainer<E, M> {
@@ -93,6 +97,14 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         } else {
             Vec::new()
         };
+        // Off-Belief Learning: the acting rows' value targets from fictitious continuations.
+        let obl = self.config.obl.level > 0;
+        let mut obl_targets = if obl {
+            vec![0f32; t_len * rows]
+        } else {
+            Vec::new()
+        };
+        let mut value_weight = obl_targets.clone();
         let h0 = self.state.hidden.clone();
         let net = self.model.valid();
         let dev = self.infer_device.clone();
@@ -144,6 +156,12 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
                 }
                 joint[r] = self.to_true_action(r, a) as u32;
             }
+            if obl {
+                for (r, target) in self.obl_targets(&net, t, &joint, shaping as f32)? {
+                    obl_targets[t * rows + r] = target;
+                    value_weight[t * rows + r] = 1.0;
+                }
+            }
             self.env.step_joint(&joint)?;
             for i in 0..n {
                 let mut reward = self.env.rewards()[i] + shaping as f32 * self.env.shaping()[i];
@@ -193,14 +211,31 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             tensor2(self.keeps(), [rows, 1], &dev),
         );
         let last_values = to_vec(last.values);
-        let (adv, returns) = gae(
-            &rewards,
-            &values,
-            &dones,
-            &last_values,
-            c.gamma,
-            c.gae_lambda,
-        );
+        let (adv, returns) = if obl {
+            // The OBL target is the return of the acting rows; the others learn nothing.
+            let adv = (0..t_len * rows)
+                .map(|i| value_weight[i] * (obl_targets[i] - values[i]))
+                .collect();
+            let returns = (0..t_len * rows)
+                .map(|i| {
+                    if value_weight[i] > 0.0 {
+                        obl_targets[i]
+                    } else {
+                        values[i]
+                    }
+                })
+                .collect();
+            (adv, returns)
+        } else {
+            gae(
+                &rewards,
+                &values,
+                &dones,
+                &last_values,
+                c.gamma,
+                c.gae_lambda,
+            )
+        };
 
         Ok(Rollout {
             obs,
@@ -222,6 +257,7 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             cluster_reward,
             end_rewards,
             truth,
+            value_weight,
         })
     }
 }

@@ -1,0 +1,23 @@
+//! Off-Belief Learning (Hu et al. 2021; docs/training.md "Off-Belief Learning").
+//!
+//! OBL grounds a seat's actions in what they do in a world drawn from the seat's *belief*
+//! rather than in the real one: at each of its decisions the seat's action is applied to a
+//! fictitious game (the real public state with card colours sampled from the belief) and
+//! the previous level's policy plays on until the seat is to act again. The reward and the
+//! value target of the action come from that continuation, while the real game goes on
+//! with the real colours. A convention the previous level does not follow earns nothing,
+//! so level 1 — whose previous level π₀ is uniformly random — learns grounded play only.
+//!
+//! - [`belief`]: level 1's belief, exact: uniform over the colourings consistent with the
+//!   seat's first-hand colours and the colour counts.
+//! - [`continuation`]: one fictitious continuation, on plain [`yokai_engine::Game`]s.
+//!
+//! The trainer's use of both (the fictitious value targets in a PPO rollout) is in
+//! `trainer/obl.rs`. Levels above 1 need a belief model trained on the level below: not
+//! built yet, and refused by the config with that reason.
+
+pub mod belief;
+pub mod continuation;
+
+pub use belief::{first_hand, sample_first_hand_consistent};
+pub use continuation::{continue_fictitiously, Continuation};
