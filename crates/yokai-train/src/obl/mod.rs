@@ -11,13 +11,18 @@
 //! - [`belief`]: level 1's belief, exact: uniform over the colourings consistent with the
 //!   seat's first-hand colours and the colour counts.
 //! - [`continuation`]: one fictitious continuation, on plain [`yokai_engine::Game`]s.
+//! - [`model`]: the belief model of the levels above 1 (recurrent encoder, autoregressive
+//!   decoder that keeps the counts and first-hand colours), and [`learn`]: its training on
+//!   the level below, measured against the exact belief of level 0.
 //!
 //! The trainer's use of both (the fictitious value targets in a PPO rollout) is in
-//! `trainer/obl.rs`. Levels above 1 need a belief model trained on the level below: not
-//! built yet, and refused by the config with that reason.
+//! `trainer/obl.rs`. Levels above 1 need the belief model as their sampler and the level
+//! below as a recurrent partner: not joined yet, and refused by the config with that reason.
 
 pub mod belief;
 pub mod continuation;
+pub mod learn;
+pub mod model;
 
 pub use belief::{first_hand, sample_first_hand_consistent};
 pub use continuation::{continue_fictitiously, Continuation};

@@ -1,0 +1,293 @@
+//! Training the belief model on games of the level below, and measuring it against the
+//! exact belief of uniformly random play.
+//!
+//! Data: every seat of every game, at every step (acting or waiting), with its observation,
+//! the cards it has seen first-hand, and the true colours. Each update collects a rollout of
+//! uniformly random legal play (level 0) and takes one Adam step per minibatch of whole
+//! seat sequences, replayed from the memory state they started the rollout with (as PPO).
+//! The loss is the cross-entropy of the true colour of every card the seat has not seen,
+//! slot by slot with the true colours of the earlier slots (teacher forcing).
+//!
+//! Under level 0 the true colouring is a draw from the exact belief, so the exact belief's
+//! cross-entropy on the same slots, −log(available_c / Σ available) per slot (summed over a
+//! seat's slots: the log of the number of consistent colourings), is the floor, and the
+//! model's cross-entropy minus it estimates KL(exact ‖ model) per unseen card.
+
+use super::model::{available, BeliefModel};
+use crate::trainer::{tensor2, to_vec};
+use burn::optim::{AdamConfig, GradientsParams, ModuleOptimizer};
+use burn::prelude::*;
+use burn::tensor::TensorData;
+use yokai_engine::{derive_seed, Card, Config, Part, Seat};
+use yokai_vec::{Encoding, VecEnv, VecEnvOptions, VecError};
+
+/// Sizes and learning rate of belief training.
+#[derive(Clone, Debug)]
+pub struct BeliefTrainConfig {
+    pub num_envs: usize,
+    pub rollout_steps: usize,
+    pub minibatches: usize,
+    pub hidden: usize,
+    /// Adam's step size, annealed linearly to 0 over `updates`.
+    pub lr: f64,
+    pub updates: u64,
+}
+
+/// One update's figures, in nats per unseen card.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct BeliefStats {
+    /// The model's cross-entropy of the true colours.
+    pub cross_entropy: f64,
+    /// The exact level-0 belief's cross-entropy on the same slots: the baseline a belief
+    /// of a level that follows conventions must beat.
+    pub uniform_cross_entropy: f64,
+    /// KL(exact level-0 conditional ‖ model conditional), averaged over the slots: with the
+    /// true colours before each slot drawn from the exact belief (level-0 data), its sum
+    /// over a seat's slots is the KL of the whole colouring (chain rule). Only meaningful
+    /// on level-0 data.
+    pub uniform_kl: f64,
+    /// Slots (unseen cards of a seat at a step) the figures average over.
+    pub slots: usize,
+}
+
+/// A belief model learning from uniformly random play (level 0).
+pub struct BeliefTrainer {
+    config: BeliefTrainConfig,
+    game: Config,
+    seed: u64,
+    device: Device,
+    model: BeliefModel,
+    optim: ModuleOptimizer,
+    env: VecEnv<f32>,
+    /// Every row's memory at the start of the next rollout, `[rows × H]`.
+    hidden: Vec<f32>,
+    updates: u64,
+}
+
+/// One rollout of belief data, time-major `[T, rows, …]`.
+struct Rollout {
+    obs: Vec<f32>,
+    keeps: Vec<f32>,
+    truth: Vec<u8>,
+    /// Per card: its colour where the row's seat has seen it, else `None`.
+    first_hand: Vec<Option<u8>>,
+}
+
+impl BeliefTrainer {
+    pub fn new(
+        game: Config,
+        config: BeliefTrainConfig,
+        seed: u64,
+        device: Device,
+    ) -> Result<BeliefTrainer, VecError> {
+        let mut options = VecEnvOptions::new(config.num_envs, derive_seed(seed, 0xBE1));
+        options.encoding = Encoding::Graph(Part::Full);
+        options.threads = Some(1);
+        let env = VecEnv::<f32>::new(game, options)?;
+        let device = device.autodiff();
+        let model = BeliefModel::new(&game, config.hidden, derive_seed(seed, 0xBE2), &device);
+        let rows = config.num_envs * game.players();
+        Ok(BeliefTrainer {
+            hidden: vec![0.0; rows * config.hidden],
+            optim: AdamConfig::new().with_epsilon(1e-5).init(),
+            config,
+            game,
+            seed,
+            device,
+            model,
+            env,
+            updates: 0,
+        })
+    }
+
+    pub fn model(&self) -> &BeliefModel {
+        &self.model
+    }
+
+    fn rows(&self) -> usize {
+        self.config.num_envs * self.game.players()
+    }
+
+    /// `rollout_steps` steps of level-0 play in every game, with every seat's data.
+    fn collect(&mut self) -> Rollout {
+        let (rows, p, y) = (self.rows(), self.game.players(), self.game.cards());
+        let t_len = self.config.rollout_steps;
+        let l: usize = self.game.node_shape(Part::Full).iter().product();
+        let mut ro = Rollout {
+            obs: Vec::with_capacity(t_len * rows * l),
+            keeps: Vec::with_capacity(t_len * rows),
+            truth: Vec::with_capacity(t_len * rows * y),
+            first_hand: Vec::with_capacity(t_len * rows * y),
+        };
+        let mut actions = vec![0u32; self.config.num_envs];
+        for t in 0..t_len {
+            ro.obs.extend_from_slice(self.env.observations());
+            for r in 0..rows {
+                let game = self.env.game(r / p);
+                ro.keeps.push((game.steps() > 0) as u8 as f32);
+                let seen = game.ever_observed(Seat((r % p) as u8));
+                for k in 0..y {
+                    let colour = game.colour_of(Card(k as u8)).0;
+                    ro.truth.push(colour);
+                    ro.first_hand.push((seen >> k & 1 == 1).then_some(colour));
+                }
+            }
+            let step = self.updates * t_len as u64 + t as u64;
+            self.env.sample_legal(
+                derive_seed(derive_seed(self.seed, 0xBE3), step),
+                &mut actions,
+            );
+            self.env.step(&actions).expect("sampled actions are legal");
+        }
+        ro
+    }
+
+    /// One update: a rollout, then one Adam step per minibatch of whole rows.
+    pub fn update(&mut self) -> BeliefStats {
+        let ro = self.collect();
+        let progress = (self.updates as f64 / self.config.updates.max(1) as f64).min(1.0);
+        let lr = self.config.lr * (1.0 - progress);
+        let rows = self.rows();
+        let mb = rows.div_ceil(self.config.minibatches);
+        let order: Vec<usize> = (0..rows).collect();
+        let mut total = BeliefStats::default();
+        for batch in order.chunks(mb) {
+            let s = self.learn(batch, &ro, lr);
+            let w = s.slots as f64;
+            total.cross_entropy += s.cross_entropy * w;
+            total.uniform_cross_entropy += s.uniform_cross_entropy * w;
+            total.uniform_kl += s.uniform_kl * w;
+            total.slots += s.slots;
+        }
+        self.updates += 1;
+        let n = total.slots.max(1) as f64;
+        total.cross_entropy /= n;
+        total.uniform_cross_entropy /= n;
+        total.uniform_kl /= n;
+        total
+    }
+
+    fn learn(&mut self, batch: &[usize], ro: &Rollout, lr: f64) -> BeliefStats {
+        let (rows, y, c) = (self.rows(), self.game.cards(), self.game.colours());
+        let t_len = self.config.rollout_steps;
+        let hsz = self.config.hidden;
+        let l: usize = self.game.node_shape(Part::Full).iter().product();
+        let f = l / (y + self.game.hints());
+        let bm = batch.len();
+        let (mut obs, mut keep, mut h0) = (Vec::new(), Vec::new(), Vec::new());
+        // Per unseen slot: its state row, card features, available counts and true colour.
+        let (mut at, mut card, mut avail, mut target) =
+            (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        let mut uniform = 0f64;
+        for (j, &r) in batch.iter().enumerate() {
+            h0.extend_from_slice(&self.hidden[r * hsz..][..hsz]);
+            for t in 0..t_len {
+                let i = t * rows + r;
+                let o = &ro.obs[i * l..][..l];
+                obs.extend_from_slice(o);
+                keep.push(ro.keeps[i]);
+                let truth = &ro.truth[i * y..][..y];
+                let first = &ro.first_hand[i * y..][..y];
+                for k in 0..y {
+                    if first[k].is_some() {
+                        continue;
+                    }
+                    let a = available(&self.game, &truth[..k], first, k);
+                    let true_colour = truth[k] as usize;
+                    uniform -= (a[true_colour] as f64 / a.iter().sum::<usize>() as f64).ln();
+                    at.push((j * t_len + t) as i64);
+                    card.extend_from_slice(&o[k * f..][..f]);
+                    avail.extend(a.iter().map(|&x| x as f32));
+                    let mut one_hot = vec![0f32; c];
+                    one_hot[true_colour] = 1.0;
+                    target.extend(one_hot);
+                }
+            }
+        }
+        let d = &self.device;
+        let n = at.len();
+        let states = self.model.unroll(
+            Tensor::from_data(TensorData::new(obs, [bm, t_len, l]), d),
+            tensor2(h0, [bm, hsz], d),
+            tensor2(keep, [bm, t_len], d),
+        );
+        // The next rollout starts from the state after this one.
+        let last: Vec<f32> = to_vec(
+            states
+                .clone()
+                .reshape([bm, t_len, hsz])
+                .narrow(1, t_len - 1, 1)
+                .reshape([bm, hsz])
+                .detach(),
+        );
+        for (j, &r) in batch.iter().enumerate() {
+            self.hidden[r * hsz..][..hsz].copy_from_slice(&last[j * hsz..][..hsz]);
+        }
+        if n == 0 {
+            return BeliefStats::default();
+        }
+        let idx = Tensor::<1, Int>::from_data(TensorData::new(at, [n]), d);
+        let log_p = self.model.slot_log_probs(
+            states.select(0, idx),
+            tensor2(card, [n, f], d),
+            tensor2(avail.clone(), [n, c], d),
+        );
+        let model_log_p = to_vec(log_p.clone().detach());
+        let mut kl = 0f64;
+        for (s, a) in avail.chunks(c).enumerate() {
+            let sum: f32 = a.iter().sum();
+            for (colour, &count) in a.iter().enumerate().filter(|(_, &x)| x > 0.0) {
+                let p = (count / sum) as f64;
+                kl += p * (p.ln() - model_log_p[s * c + colour] as f64);
+            }
+        }
+        let loss = (log_p * tensor2(target, [n, c], d)).sum().neg() / n as f32;
+        let cross_entropy = loss.clone().into_scalar::<f32>() as f64;
+        let grads = GradientsParams::from_grads(loss.backward(), &self.model);
+        let model = self.model.clone();
+        self.model = self.optim.step(lr, model, grads);
+        BeliefStats {
+            cross_entropy,
+            uniform_cross_entropy: uniform / n as f64,
+            uniform_kl: kl / n as f64,
+            slots: n,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A belief model trained on level-0 games comes within 0.003 nats per unseen card of
+    /// the exact belief (uniform over the consistent colourings): the exact KL of each
+    /// slot's conditional, averaged over the slots of fresh rollouts (each update measures
+    /// its rollout before learning from it), over the last 20 of 200 updates.
+    #[test]
+    fn a_belief_model_trained_on_random_play_matches_the_exact_belief() {
+        let game = Config::from_name("9c-2p-perfect").unwrap();
+        let config = BeliefTrainConfig {
+            num_envs: 16,
+            rollout_steps: 16,
+            minibatches: 2,
+            hidden: 32,
+            lr: 3e-3,
+            updates: 200,
+        };
+        let mut t = BeliefTrainer::new(game, config, 1, Device::flex()).unwrap();
+        let mut kl = Vec::new();
+        for u in 0..200 {
+            let s = t.update();
+            assert!(s.slots > 1000, "update {u}: {} unseen-card slots", s.slots);
+            kl.push(s.uniform_kl);
+        }
+        let late: f64 = kl[kl.len() - 20..].iter().sum::<f64>() / 20.0;
+        assert!(kl[0] > 0.005, "untrained, the model is off: KL {}", kl[0]);
+        // Measured: 0.035 untrained, about 0.0015 over the last 20 updates.
+        assert!(
+            late < 0.003 && late < 0.1 * kl[0],
+            "KL per unseen card {late:.5}, at first {:.5}",
+            kl[0]
+        );
+    }
+}
