@@ -3,8 +3,10 @@
 //!
 //! Data: every seat of every game, at every step (acting or waiting), with its observation,
 //! the cards it has seen first-hand, and the true colours. Each update collects a rollout of
-//! uniformly random legal play (level 0) and takes one Adam step per minibatch of whole
-//! seat sequences, replayed from the memory state they started the rollout with (as PPO).
+//! the level below in self-play ([`LevelBelow`]: uniformly random legal play, or any
+//! [`Policy`] in every seat, such as the previous OBL level) and takes one Adam step per
+//! minibatch of whole seat sequences, replayed from the memory state they started the
+//! rollout with (as PPO).
 //! The loss is the cross-entropy of the true colour of every card the seat has not seen,
 //! slot by slot with the true colours of the earlier slots (teacher forcing).
 //!
@@ -13,13 +15,23 @@
 //! seat's slots: the log of the number of consistent colourings), is the floor, and the
 //! model's cross-entropy minus it estimates KL(exact ‖ model) per unseen card.
 
-use super::model::{available, BeliefModel};
+use super::model::{available, neighbour_colours, BeliefModel};
 use crate::trainer::{tensor2, to_vec};
 use burn::optim::{AdamConfig, GradientsParams, ModuleOptimizer};
 use burn::prelude::*;
 use burn::tensor::TensorData;
+use yokai_agents::Policy;
 use yokai_engine::{derive_seed, Card, Config, Part, Seat};
 use yokai_vec::{Encoding, VecEnv, VecEnvOptions, VecError};
+
+/// Who plays the games the belief learns from.
+pub enum LevelBelow {
+    /// Level 0: uniformly random legal play (its exact belief is known: see `uniform_kl`).
+    Random,
+    /// A policy in every seat, built afresh for each seat of each episode from a seed
+    /// (e.g. `TrainedPolicy::build` of the previous OBL level, or a scripted bot).
+    Policy(Box<dyn FnMut(u64) -> Box<dyn Policy> + Send>),
+}
 
 /// Sizes and learning rate of belief training.
 #[derive(Clone, Debug)]
@@ -59,6 +71,9 @@ pub struct BeliefTrainer {
     model: BeliefModel,
     optim: ModuleOptimizer,
     env: VecEnv<f32>,
+    players: LevelBelow,
+    /// With a policy below: its seats per game, and the episode they were built for.
+    seats: Vec<(u64, Vec<Box<dyn Policy>>)>,
     /// Every row's memory at the start of the next rollout, `[rows × H]`.
     hidden: Vec<f32>,
     updates: u64,
@@ -69,6 +84,8 @@ struct Rollout {
     obs: Vec<f32>,
     keeps: Vec<f32>,
     truth: Vec<u8>,
+    /// Per step and game: the card adjacency `[Y, Y]`.
+    adjacency: Vec<f32>,
     /// Per card: its colour where the row's seat has seen it, else `None`.
     first_hand: Vec<Option<u8>>,
 }
@@ -77,6 +94,7 @@ impl BeliefTrainer {
     pub fn new(
         game: Config,
         config: BeliefTrainConfig,
+        players: LevelBelow,
         seed: u64,
         device: Device,
     ) -> Result<BeliefTrainer, VecError> {
@@ -96,6 +114,8 @@ impl BeliefTrainer {
             device,
             model,
             env,
+            players,
+            seats: Vec::new(),
             updates: 0,
         })
     }
@@ -108,7 +128,7 @@ impl BeliefTrainer {
         self.config.num_envs * self.game.players()
     }
 
-    /// `rollout_steps` steps of level-0 play in every game, with every seat's data.
+    /// `rollout_steps` steps of the level below in every game, with every seat's data.
     fn collect(&mut self) -> Rollout {
         let (rows, p, y) = (self.rows(), self.game.players(), self.game.cards());
         let t_len = self.config.rollout_steps;
@@ -117,11 +137,13 @@ impl BeliefTrainer {
             obs: Vec::with_capacity(t_len * rows * l),
             keeps: Vec::with_capacity(t_len * rows),
             truth: Vec::with_capacity(t_len * rows * y),
+            adjacency: Vec::with_capacity(t_len * self.config.num_envs * y * y),
             first_hand: Vec::with_capacity(t_len * rows * y),
         };
         let mut actions = vec![0u32; self.config.num_envs];
         for t in 0..t_len {
             ro.obs.extend_from_slice(self.env.observations());
+            ro.adjacency.extend_from_slice(self.env.adjacency());
             for r in 0..rows {
                 let game = self.env.game(r / p);
                 ro.keeps.push((game.steps() > 0) as u8 as f32);
@@ -133,13 +155,46 @@ impl BeliefTrainer {
                 }
             }
             let step = self.updates * t_len as u64 + t as u64;
-            self.env.sample_legal(
-                derive_seed(derive_seed(self.seed, 0xBE3), step),
-                &mut actions,
-            );
-            self.env.step(&actions).expect("sampled actions are legal");
+            self.choose(step, &mut actions);
+            self.env
+                .step(&actions)
+                .expect("the level below plays legal actions");
         }
         ro
+    }
+
+    /// The acting seat's action in every game at rollout step `step` (a count over the run).
+    fn choose(&mut self, step: u64, actions: &mut [u32]) {
+        let build = match &mut self.players {
+            LevelBelow::Random => {
+                let seed = derive_seed(derive_seed(self.seed, 0xBE3), step);
+                return self.env.sample_legal(seed, actions);
+            }
+            LevelBelow::Policy(build) => build,
+        };
+        let p = self.game.players();
+        let seats_seed = derive_seed(self.seed, 0xBE4);
+        if self.seats.is_empty() {
+            self.seats = (0..actions.len()).map(|_| (u64::MAX, Vec::new())).collect();
+        }
+        for (i, action) in actions.iter_mut().enumerate() {
+            let game = self.env.game(i);
+            let episode = self.env.episodes(i);
+            let (built_for, seats) = &mut self.seats[i];
+            if *built_for != episode {
+                let episode_seed = yokai_vec::episode_seed(seats_seed, i, episode);
+                *seats = (0..p)
+                    .map(|s| build(derive_seed(episode_seed, s as u64)))
+                    .collect();
+                *built_for = episode;
+            }
+            let actor = game.current_seat();
+            let chosen = seats[actor.index()].act(&game.view(actor));
+            for (s, seat) in seats.iter_mut().enumerate() {
+                seat.observe(&game.view(Seat(s as u8)), actor, chosen);
+            }
+            *action = self.game.encode(chosen) as u32;
+        }
     }
 
     /// One update: a rollout, then one Adam step per minibatch of whole rows.
@@ -178,6 +233,8 @@ impl BeliefTrainer {
         // Per unseen slot: its state row, card features, available counts and true colour.
         let (mut at, mut card, mut avail, mut target) =
             (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        let mut around = Vec::new();
+        let p = self.game.players();
         let mut uniform = 0f64;
         for (j, &r) in batch.iter().enumerate() {
             h0.extend_from_slice(&self.hidden[r * hsz..][..hsz]);
@@ -188,6 +245,7 @@ impl BeliefTrainer {
                 keep.push(ro.keeps[i]);
                 let truth = &ro.truth[i * y..][..y];
                 let first = &ro.first_hand[i * y..][..y];
+                let adjacency = &ro.adjacency[(t * rows / p + r / p) * y * y..][..y * y];
                 for k in 0..y {
                     if first[k].is_some() {
                         continue;
@@ -198,6 +256,8 @@ impl BeliefTrainer {
                     at.push((j * t_len + t) as i64);
                     card.extend_from_slice(&o[k * f..][..f]);
                     avail.extend(a.iter().map(|&x| x as f32));
+                    let nb = neighbour_colours(c, adjacency, &truth[..k], first, k);
+                    around.extend(nb.iter().map(|&x| x as f32));
                     let mut one_hot = vec![0f32; c];
                     one_hot[true_colour] = 1.0;
                     target.extend(one_hot);
@@ -230,6 +290,7 @@ impl BeliefTrainer {
         let log_p = self.model.slot_log_probs(
             states.select(0, idx),
             tensor2(card, [n, f], d),
+            tensor2(around, [n, c], d),
             tensor2(avail.clone(), [n, c], d),
         );
         let model_log_p = to_vec(log_p.clone().detach());
@@ -274,7 +335,8 @@ mod tests {
             lr: 3e-3,
             updates: 200,
         };
-        let mut t = BeliefTrainer::new(game, config, 1, Device::flex()).unwrap();
+        let mut t =
+            BeliefTrainer::new(game, config, LevelBelow::Random, 1, Device::flex()).unwrap();
         let mut kl = Vec::new();
         for u in 0..200 {
             let s = t.update();
@@ -288,6 +350,47 @@ mod tests {
             late < 0.003 && late < 0.1 * kl[0],
             "KL per unseen card {late:.5}, at first {:.5}",
             kl[0]
+        );
+    }
+
+    /// A belief learns what a convention says: trained on the `greedy` bot's self-play
+    /// (it moves the cards it has seen next to cards of their colour and places only
+    /// correct hints, so where a partner puts a card and a hint tells about its colour),
+    /// its cross-entropy falls below the exact belief of uncommitted play — the colours one
+    /// has seen and the counts, which no belief can beat on random play — on the same
+    /// slots. Measured: 0.020 nats per unseen card above that baseline untrained, 0.0053
+    /// below it over the last 20 of 200 updates (0.593 against 0.598; 600 updates gave
+    /// 0.0050: what the model reads of this convention is small, see docs/training.md).
+    #[test]
+    fn a_belief_trained_on_a_convention_beats_the_first_hand_baseline() {
+        let game = Config::from_name("9c-2p-perfect").unwrap();
+        let config = BeliefTrainConfig {
+            num_envs: 16,
+            rollout_steps: 16,
+            minibatches: 2,
+            hidden: 32,
+            lr: 3e-3,
+            updates: 200,
+        };
+        let greedy = LevelBelow::Policy(Box::new(|_| Box::new(yokai_agents::GreedyPolicy::new())));
+        let mut t = BeliefTrainer::new(game, config, greedy, 2, Device::flex()).unwrap();
+        let stats: Vec<BeliefStats> = (0..200).map(|_| t.update()).collect();
+        let mean = |s: &[BeliefStats], f: fn(&BeliefStats) -> f64| {
+            s.iter().map(f).sum::<f64>() / s.len() as f64
+        };
+        let gap =
+            |s: &[BeliefStats]| mean(s, |x| x.uniform_cross_entropy) - mean(s, |x| x.cross_entropy);
+        let (first, late) = (&stats[..10], &stats[180..]);
+        assert!(
+            gap(first) < 0.0,
+            "untrained: no better than the baseline ({})",
+            gap(first)
+        );
+        assert!(
+            gap(late) > 0.003,
+            "trained: {:.3} nats per unseen card, baseline {:.3}",
+            mean(late, |x| x.cross_entropy),
+            mean(late, |x| x.uniform_cross_entropy)
         );
     }
 }

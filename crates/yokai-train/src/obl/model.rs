@@ -4,9 +4,12 @@
 //! - **Encoder**: the compact network's per-card MLP and a GRU over the seat's observations
 //!   (its own memory, separate from the policy's).
 //! - **Autoregressive decoder** over card ids 0..Y−1: slot k's colour logits read the GRU
-//!   state, card k's node features and how many cards of each colour are still *available*
-//!   to it — the colour count Y/C minus the colours of the cards before it (sampled, or the
-//!   true ones when training) minus the first-hand colours of the cards after it. Colours
+//!   state, card k's node features, the colours of its 4-neighbours as far as the decoder
+//!   knows them (drawn before it, or seen first-hand), and how many cards of each colour are
+//!   still *available* to it — the colour count Y/C minus the colours of the cards before it
+//!   (sampled, or the true ones when training) minus the first-hand colours of the cards
+//!   after it. The neighbours' colours carry what a clustering convention says ("my partner
+//!   put this card next to that one"), which one summary state reads poorly. Colours
 //!   with none available are masked, and a card the seat has seen first-hand takes its
 //!   colour, so every sample holds the colour counts and the seat's own knowledge exactly.
 //!   Hints are read as features, not as constraints: a placed hint may be wrong.
@@ -53,6 +56,30 @@ pub struct BeliefModel {
     per_colour: usize,
 }
 
+/// How many of card `k`'s 4-neighbours (`adjacency` `[Y, Y]`, 1 for neighbours) have each
+/// colour as far as slot `k` knows: drawn before it (`before`) or seen first-hand.
+pub fn neighbour_colours(
+    colours: usize,
+    adjacency: &[f32],
+    before: &[u8],
+    first_hand: &FirstHand,
+    k: usize,
+) -> Vec<usize> {
+    let y = first_hand.len();
+    let mut counts = vec![0; colours];
+    for j in (0..y).filter(|&j| adjacency[k * y + j] > 0.5) {
+        let known = if j < k {
+            Some(before[j])
+        } else {
+            first_hand[j]
+        };
+        if let Some(c) = known {
+            counts[c as usize] += 1;
+        }
+    }
+    counts
+}
+
 /// The colours still available to slot `k` (see the module docs), given the colours of the
 /// slots before it and the first-hand colours of those after it.
 pub fn available(config: &Config, before: &[u8], first_hand: &FirstHand, k: usize) -> Vec<usize> {
@@ -81,7 +108,7 @@ impl BeliefModel {
             embed: init.linear(encoder.output_size(), hidden, sqrt2, device),
             encoder,
             gru: GruCell::new(hidden, hidden, &mut init, device),
-            slot: init.linear(hidden + features + c, SLOT_WIDTH, sqrt2, device),
+            slot: init.linear(hidden + features + 2 * c, SLOT_WIDTH, sqrt2, device),
             out: init.linear(SLOT_WIDTH, c, 0.01, device),
             count_prior: init.linear(c, c, 0.01, device),
             shape: [y, c, features, hidden],
@@ -124,30 +151,33 @@ impl BeliefModel {
     }
 
     /// Log-probabilities `[R, C]` of one slot's colour for `R` (row, slot) pairs: their
-    /// states `[R, H]`, the slot's card features `[R, F]` and available counts `[R, C]`.
+    /// states `[R, H]`, the slot's card features `[R, F]`, its neighbours' known colours
+    /// `[R, C]` and available counts `[R, C]`.
     pub fn slot_log_probs(
         &self,
         states: Tensor<2>,
         card: Tensor<2>,
+        neighbours: Tensor<2>,
         avail: Tensor<2>,
     ) -> Tensor<2> {
         let per = self.per_colour as f32;
         let mask = avail.clone().greater_elem(0.0).float();
         let log_count = avail.clone().clamp_min(1.0).log();
-        let x = Tensor::cat(vec![states, card, avail / per], 1);
+        let x = Tensor::cat(vec![states, card, neighbours / 4.0, avail / per], 1);
         let logits =
             self.out.forward(relu(self.slot.forward(x))) + self.count_prior.forward(log_count);
         masked_log_softmax(logits, mask)
     }
 
     /// Draw a colouring for one seat: its state `[1, H]`, its node features (`obs`, the
-    /// graph observation, cards first) and first-hand colours. Slots go in card order,
-    /// each conditioned on the colours drawn before it.
+    /// graph observation, cards first), the card adjacency `[Y, Y]` and its first-hand
+    /// colours. Slots go in card order, each conditioned on the colours drawn before it.
     pub fn sample(
         &self,
         game: &Config,
         state: Tensor<2>,
         obs: &[f32],
+        adjacency: &[f32],
         first_hand: &FirstHand,
         rng: &mut ChaCha8Rng,
     ) -> Vec<Colour> {
@@ -160,13 +190,18 @@ impl BeliefModel {
                 continue;
             }
             let avail = available(game, &drawn, first_hand, k);
+            let around = neighbour_colours(c, adjacency, &drawn, first_hand, k);
+            let row = |v: &[usize]| {
+                Tensor::from_data(
+                    TensorData::new(v.iter().map(|&a| a as f32).collect(), [1, c]),
+                    &device,
+                )
+            };
             let log_p = self.slot_log_probs(
                 state.clone(),
                 Tensor::from_data(TensorData::new(obs[k * f..][..f].to_vec(), [1, f]), &device),
-                Tensor::from_data(
-                    TensorData::new(avail.iter().map(|&a| a as f32).collect(), [1, c]),
-                    &device,
-                ),
+                row(&around),
+                row(&avail),
             );
             let p: Vec<f32> = crate::trainer::to_vec(log_p.exp());
             let u = (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
@@ -222,11 +257,13 @@ mod tests {
                 }
                 let mut obs = vec![0f32; l];
                 game.write_nodes(seat, Part::Full, &mut obs).unwrap();
+                let mut adjacency = vec![0f32; config.cards() * config.cards()];
+                game.write_adjacency(&mut adjacency).unwrap();
                 let state: Vec<f32> = (0..16)
                     .map(|_| (rng.next_u64() % 200) as f32 / 100.0 - 1.0)
                     .collect();
                 let state = Tensor::from_data(TensorData::new(state, [1, 16]), &device);
-                let sample = model.sample(&config, state, &obs, &first, &mut rng);
+                let sample = model.sample(&config, state, &obs, &adjacency, &first, &mut rng);
                 for (k, known) in first.iter().enumerate() {
                     if let Some(c) = known {
                         assert_eq!(sample[k].0, *c, "{name} case {case}: card {k}");
