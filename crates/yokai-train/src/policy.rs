@@ -134,6 +134,50 @@ impl TrainedPolicy {
         check_game(&self.path, &self.game, game)
     }
 
+    /// The observation encoding the network reads.
+    pub fn encoding(&self) -> Encoding {
+        match &self.net {
+            Net::Paper(_) => CnnEncoder::encoding(),
+            Net::Compact(_) => MlpEncoder::encoding(),
+        }
+    }
+
+    /// Width of the network's recurrent state.
+    pub fn hidden_size(&self) -> usize {
+        match &self.net {
+            Net::Paper(m) => m.hidden_size(),
+            Net::Compact(m) => m.hidden_size(),
+        }
+    }
+
+    /// One step of the network for `rows` seats at once, as in training: observations
+    /// `[rows × L]` (in [`TrainedPolicy::encoding`]), states `[rows × H]`, `keep` `[rows]`
+    /// (0 zeroes a row's state first: an episode starts). Returns the action logits
+    /// `[rows × N_a]` and the new states. For callers that drive many seats of many games
+    /// (Off-Belief Learning's previous level).
+    pub fn step_batch(
+        &self,
+        obs: Vec<f32>,
+        states: Vec<f32>,
+        keep: Vec<f32>,
+    ) -> (Vec<f32>, Vec<f32>) {
+        let rows = keep.len();
+        let d = &self.device;
+        let h = self.hidden_size();
+        let l = obs.len() / rows.max(1);
+        let o = Tensor::from_data(TensorData::new(obs, [rows, l]), d);
+        let s = Tensor::from_data(TensorData::new(states, [rows, h]), d);
+        let k = Tensor::from_data(TensorData::new(keep, [rows, 1]), d);
+        let (out, state) = match &self.net {
+            Net::Paper(m) => m.step(o, s, k),
+            Net::Compact(m) => m.step(o, s, k),
+        };
+        (
+            crate::trainer::to_vec(out.logits),
+            crate::trainer::to_vec(state),
+        )
+    }
+
     /// A fresh seat-holder; `seed` drives its action sampling.
     pub fn build(&self, seed: u64) -> Box<dyn Policy> {
         match &self.net {

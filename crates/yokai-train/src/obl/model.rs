@@ -169,57 +169,78 @@ impl BeliefModel {
         masked_log_softmax(logits, mask)
     }
 
-    /// Draw a colouring for one seat: its state `[1, H]`, its node features (`obs`, the
-    /// graph observation, cards first), the card adjacency `[Y, Y]` and its first-hand
-    /// colours. Slots go in card order, each conditioned on the colours drawn before it.
+    /// Draw one colouring for each of `n` seats: their states `[n, H]`, graph observations
+    /// (`obs`, `[n × L]`, cards first), card adjacencies (`[n × Y × Y]`) and first-hand
+    /// colours (`[n × Y]`). Slots go in card order, each conditioned on the colours drawn
+    /// before it; each slot is one batched pass over the seats that have not seen the card.
     pub fn sample(
         &self,
         game: &Config,
-        state: Tensor<2>,
+        states: Tensor<2>,
         obs: &[f32],
         adjacency: &[f32],
         first_hand: &FirstHand,
         rng: &mut ChaCha8Rng,
-    ) -> Vec<Colour> {
+    ) -> Vec<Vec<Colour>> {
         let [y, c, f, _] = self.shape;
-        let device = state.device();
-        let mut drawn: Vec<u8> = Vec::with_capacity(y);
+        let n = states.dims()[0];
+        let l = obs.len() / n.max(1);
+        let device = states.device();
+        let mut drawn: Vec<Vec<u8>> = vec![Vec::with_capacity(y); n];
         for k in 0..y {
-            if let Some(colour) = first_hand[k] {
-                drawn.push(colour);
-                continue;
+            let open: Vec<usize> = (0..n)
+                .filter(|&i| first_hand[i * y + k].is_none())
+                .collect();
+            let (mut card, mut around, mut avail) = (Vec::new(), Vec::new(), Vec::new());
+            for &i in &open {
+                let first = &first_hand[i * y..][..y];
+                card.extend_from_slice(&obs[i * l + k * f..][..f]);
+                let adj = &adjacency[i * y * y..][..y * y];
+                let nb = neighbour_colours(c, adj, &drawn[i], first, k);
+                around.extend(nb.iter().map(|&a| a as f32));
+                let a = available(game, &drawn[i], first, k);
+                avail.extend(a.iter().map(|&a| a as f32));
             }
-            let avail = available(game, &drawn, first_hand, k);
-            let around = neighbour_colours(c, adjacency, &drawn, first_hand, k);
-            let row = |v: &[usize]| {
-                Tensor::from_data(
-                    TensorData::new(v.iter().map(|&a| a as f32).collect(), [1, c]),
-                    &device,
-                )
+            let p = if open.is_empty() {
+                Vec::new()
+            } else {
+                let m = open.len();
+                let idx: Vec<i64> = open.iter().map(|&i| i as i64).collect();
+                let rows = Tensor::<1, Int>::from_data(TensorData::new(idx, [m]), &device);
+                let t =
+                    |v: Vec<f32>, w: usize| Tensor::from_data(TensorData::new(v, [m, w]), &device);
+                let log_p = self.slot_log_probs(
+                    states.clone().select(0, rows),
+                    t(card, f),
+                    t(around, c),
+                    t(avail.clone(), c),
+                );
+                crate::trainer::to_vec(log_p.exp())
             };
-            let log_p = self.slot_log_probs(
-                state.clone(),
-                Tensor::from_data(TensorData::new(obs[k * f..][..f].to_vec(), [1, f]), &device),
-                row(&around),
-                row(&avail),
-            );
-            let p: Vec<f32> = crate::trainer::to_vec(log_p.exp());
-            let u = (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
-            let mut acc = 0.0;
-            let mut pick = None;
-            for (colour, &q) in p.iter().enumerate() {
-                if avail[colour] == 0 {
+            let mut next = 0;
+            for (i, colours) in drawn.iter_mut().enumerate() {
+                if let Some(colour) = first_hand[i * y + k] {
+                    colours.push(colour);
                     continue;
                 }
-                acc += q as f64;
-                pick = Some(colour);
-                if u < acc {
-                    break;
+                let (q, a) = (&p[next * c..][..c], &avail[next * c..][..c]);
+                next += 1;
+                let u = (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+                let (mut acc, mut pick) = (0.0, None);
+                for colour in (0..c).filter(|&colour| a[colour] > 0.0) {
+                    acc += q[colour] as f64;
+                    pick = Some(colour);
+                    if u < acc {
+                        break;
+                    }
                 }
+                colours.push(pick.expect("a slot always has an available colour") as u8);
             }
-            drawn.push(pick.expect("a slot always has an available colour") as u8);
         }
-        drawn.into_iter().map(Colour).collect()
+        drawn
+            .into_iter()
+            .map(|x| x.into_iter().map(Colour).collect())
+            .collect()
     }
 }
 
@@ -231,15 +252,19 @@ mod tests {
     use yokai_engine::{Game, Seat};
 
     /// Whatever its weights, the model's samples keep the colour counts and the seat's
-    /// first-hand colours: over random histories in 9c and 16c, from random states.
+    /// first-hand colours: over random histories in 9c and 16c, from random states, drawn
+    /// one seat at a time and all 30 seats in one batch.
     #[test]
     fn samples_keep_first_hand_colours_and_the_counts() {
         let device = Device::flex();
         let mut rng = ChaCha8Rng::seed_from_u64(4);
         for name in ["9c-2p-perfect", "16c-2p-perfect", "9c-3p-imperfect"] {
             let config = Config::from_name(name).unwrap();
+            let y = config.cards();
             let model = BeliefModel::new(&config, 16, 7, &device);
             let l: usize = config.node_shape(Part::Full).iter().product();
+            let (mut games, mut states, mut obs, mut adjacency, mut first) =
+                (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
             for case in 0..30u64 {
                 let mut game = Game::new(config, case);
                 for _ in 0..(case as usize * 3) % config.max_episode_len() {
@@ -251,33 +276,53 @@ mod tests {
                         .unwrap();
                 }
                 let seat = Seat((case % config.players() as u64) as u8);
-                let mut first = vec![None; config.cards()];
+                let mut known = vec![None; y];
                 for (card, colour) in first_hand(&game, seat) {
-                    first[card.index()] = Some(colour.0);
+                    known[card.index()] = Some(colour.0);
                 }
-                let mut obs = vec![0f32; l];
-                game.write_nodes(seat, Part::Full, &mut obs).unwrap();
-                let mut adjacency = vec![0f32; config.cards() * config.cards()];
-                game.write_adjacency(&mut adjacency).unwrap();
-                let state: Vec<f32> = (0..16)
-                    .map(|_| (rng.next_u64() % 200) as f32 / 100.0 - 1.0)
-                    .collect();
-                let state = Tensor::from_data(TensorData::new(state, [1, 16]), &device);
-                let sample = model.sample(&config, state, &obs, &adjacency, &first, &mut rng);
-                for (k, known) in first.iter().enumerate() {
-                    if let Some(c) = known {
-                        assert_eq!(sample[k].0, *c, "{name} case {case}: card {k}");
+                first.extend(known);
+                let at = obs.len();
+                obs.resize(at + l, 0f32);
+                game.write_nodes(seat, Part::Full, &mut obs[at..]).unwrap();
+                let at = adjacency.len();
+                adjacency.resize(at + y * y, 0f32);
+                game.write_adjacency(&mut adjacency[at..]).unwrap();
+                states.extend((0..16).map(|_| (rng.next_u64() % 200) as f32 / 100.0 - 1.0));
+                games.push(game);
+            }
+            let n = games.len();
+            let tensor = |rows: std::ops::Range<usize>| {
+                let v = states[rows.start * 16..rows.end * 16].to_vec();
+                Tensor::from_data(TensorData::new(v, [rows.len(), 16]), &device)
+            };
+            let batch = model.sample(&config, tensor(0..n), &obs, &adjacency, &first, &mut rng);
+            for (i, game) in games.iter().enumerate() {
+                let one = model
+                    .sample(
+                        &config,
+                        tensor(i..i + 1),
+                        &obs[i * l..][..l],
+                        &adjacency[i * y * y..][..y * y],
+                        &first[i * y..][..y],
+                        &mut rng,
+                    )
+                    .remove(0);
+                for sample in [&batch[i], &one] {
+                    for (k, known) in first[i * y..][..y].iter().enumerate() {
+                        if let Some(c) = known {
+                            assert_eq!(sample[k].0, *c, "{name} case {i}: card {k}");
+                        }
                     }
+                    let mut counts = vec![0; config.colours()];
+                    for c in sample {
+                        counts[c.index()] += 1;
+                    }
+                    assert!(
+                        counts.iter().all(|&n| n == config.cards_per_colour()),
+                        "{name}: {counts:?}"
+                    );
+                    game.with_card_colours(sample).unwrap();
                 }
-                let mut counts = vec![0; config.colours()];
-                for c in &sample {
-                    counts[c.index()] += 1;
-                }
-                assert!(
-                    counts.iter().all(|&n| n == config.cards_per_colour()),
-                    "{name}: {counts:?}"
-                );
-                game.with_card_colours(&sample).unwrap();
             }
         }
     }
