@@ -77,6 +77,11 @@ pub struct Args {
     /// `--features vulkan` / `--features cuda`). The environment steps on the CPU either way.
     #[arg(long, default_value = "cpu")]
     device: yokai_train::Backend,
+    /// Off-Belief Learning configs: train these levels in sequence, `1..3` (levels 1 and 2)
+    /// or one number, each into `<out>/level-L/seed-N` with the level below
+    /// (`<out>/level-(L-1)`) as its previous level; the evaluation runs after each level.
+    #[arg(long, value_name = "A..B")]
+    levels: Option<String>,
 }
 
 /// Parse `0..3`, `0,4,7` or `5`.
@@ -127,6 +132,39 @@ pub fn run(args: Args) -> Result<(), String> {
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from("runs").join(&name));
+    let Some(levels) = &args.levels else {
+        return train_and_evaluate(&args, &config, &name, &seeds, &out);
+    };
+    if config.obl.level == 0 {
+        return Err(format!(
+            "--levels trains Off-Belief Learning levels, but {name} is not an OBL config \
+             (its obl.level is 0; try obl-quick)"
+        ));
+    }
+    // Levels count from 1: parse them as seeds are parsed, then check.
+    let levels = parse_seeds(levels).map_err(|e| e.replace("--seeds", "--levels"))?;
+    if levels.contains(&0) {
+        return Err("--levels counts from 1 (level 0 is random play)".into());
+    }
+    for level in levels {
+        let mut c = config.clone();
+        c.obl.level = level as u32;
+        c.obl.previous = (level >= 2).then(|| out.join(format!("level-{}", level - 1)));
+        c.validate("config").map_err(|e| e.to_string())?;
+        let dir = out.join(format!("level-{level}"));
+        train_and_evaluate(&args, &c, &format!("{name} level {level}"), &seeds, &dir)?;
+    }
+    Ok(())
+}
+
+/// Train `seeds` of `config` into `out`, then evaluate them.
+fn train_and_evaluate(
+    args: &Args,
+    config: &TrainConfig,
+    name: &str,
+    seeds: &[u64],
+    out: &Path,
+) -> Result<(), String> {
     let game = config.game_config().map_err(|e| e.to_string())?;
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let threads = args.threads.unwrap_or(cores).max(1);
@@ -171,9 +209,9 @@ pub fn run(args: Args) -> Result<(), String> {
                         return;
                     };
                     let job = SeedJob {
-                        args: &args,
-                        config: &config,
-                        out: &out,
+                        args,
+                        config,
+                        out,
                         threads: threads_per_job,
                         progress: &progress,
                     };

@@ -350,3 +350,65 @@ fn soak_plays_every_preset_and_replays_a_sample_against_the_reference() {
     let err = yokai_err(&["soak", "--steps", "lots"]);
     assert!(err.contains("lots"), "{err}");
 }
+
+/// `yokai train --levels 1..3` trains OBL level 1, then level 2 on it (its belief trained on
+/// level 1's self-play, reported in its metrics), each level a set of run directories that
+/// `yokai eval` reads; a non-OBL config or level 0 is refused with the reason.
+#[test]
+fn train_obl_levels_in_sequence() {
+    let tmp = tempdir("levels");
+    let dir = tmp.path();
+    let config = dir.join("obl.toml");
+    std::fs::write(
+        &config,
+        "game = \"9c-2p-perfect\"\n[network]\npreset = \"compact\"\nhidden = 16\n\
+         [ppo]\nnum_envs = 8\nrollout_steps = 8\nminibatches = 2\nepochs = 1\ntotal_steps = 128\n\
+         [obl]\nlevel = 1\nbelief_updates = 2\nbelief_hidden = 8\n",
+    )
+    .unwrap();
+    let out = dir.join("runs");
+    let o = yokai(&[
+        "train",
+        config.to_str().unwrap(),
+        "--seeds",
+        "0",
+        "--levels",
+        "1..3",
+        "--eval-games",
+        "20",
+        "--threads",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    for level in [1, 2] {
+        let run = out.join(format!("level-{level}/seed-0"));
+        assert!(run.join("policy.ykp").exists(), "level {level}");
+        let saved = std::fs::read_to_string(run.join("config.toml")).unwrap();
+        assert!(saved.contains(&format!("level = {level}")), "{saved}");
+        let metrics = std::fs::read_to_string(run.join("metrics.jsonl")).unwrap();
+        assert_eq!(
+            metrics.contains("obl_belief_cross_entropy"),
+            level == 2,
+            "level {level}: the belief's figures are logged from level 2 on"
+        );
+        assert!(out.join(format!("level-{level}/eval/report.md")).exists());
+    }
+    let level_two = std::fs::read_to_string(out.join("level-2/seed-0/config.toml")).unwrap();
+    assert!(
+        level_two.contains("level-1"),
+        "level 2 names level 1: {level_two}"
+    );
+    let e = yokai_err(&[
+        "train",
+        "quick",
+        "--levels",
+        "1..2",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(e.contains("not an OBL config"), "{e}");
+    let e = yokai_err(&["train", config.to_str().unwrap(), "--levels", "0..2"]);
+    assert!(e.contains("counts from 1"), "{e}");
+}

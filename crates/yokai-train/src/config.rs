@@ -25,13 +25,35 @@ pub struct TrainConfig {
 /// Off-Belief Learning (docs/training.md): the value target of each of a seat's actions
 /// comes from a fictitious continuation in a world drawn from the seat's belief, played on
 /// by the previous level's policy.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct OblConfig {
     /// 0: off (IPPO, HE, OP). 1: level 1, whose previous level is uniform random play and
     /// whose belief is exact (uniform over the colourings consistent with the seat's
-    /// first-hand colours). Higher levels need a belief model trained on the level below.
+    /// first-hand colours). 2 and up: the previous level is `previous`, and the belief a
+    /// model trained on its self-play when the run starts.
     pub level: u32,
+    /// Levels ≥ 2: the previous level's policy (policy file, checkpoint or run directory;
+    /// for a directory of `seed-N` runs, seed N uses `seed-N`). A relative path is read
+    /// from the directory `yokai train` runs in.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub previous: Option<std::path::PathBuf>,
+    /// Levels ≥ 2: updates of the belief model on the previous level's self-play (16 games
+    /// × 16 steps each) before PPO starts; redone identically on resume.
+    pub belief_updates: u64,
+    /// Levels ≥ 2: width of the belief model's memory.
+    pub belief_hidden: usize,
+}
+
+impl Default for OblConfig {
+    fn default() -> Self {
+        OblConfig {
+            level: 0,
+            previous: None,
+            belief_updates: 300,
+            belief_hidden: 64,
+        }
+    }
 }
 
 /// Which of the paper's algorithms; they differ only in these fields.
@@ -432,14 +454,25 @@ impl TrainConfig {
         if self.network.pointer_pool && self.network.head != ActionHead::Pointer {
             return bad("network.pointer_pool", "needs network.head = \"pointer\"");
         }
-        if self.obl.level > 1 {
+        if self.obl.level >= 2 && self.obl.previous.is_none() {
             return bad(
-                "obl.level",
-                "above 1 needs a belief model trained on the level below, which is not built \
-                 yet; level 1 (exact belief, uniform random level 0) is",
+                "obl.previous",
+                "is needed from level 2 on: the previous level's policy (its run directory)",
             );
         }
-        if self.obl.level == 1 {
+        if self.obl.level < 2 && self.obl.previous.is_some() {
+            return bad(
+                "obl.previous",
+                "is read from level 2 on only (level 1's previous level is random play)",
+            );
+        }
+        if self.obl.level >= 2 && (self.obl.belief_updates == 0 || self.obl.belief_hidden == 0) {
+            return bad(
+                "obl.belief_updates / obl.belief_hidden",
+                "must be at least 1",
+            );
+        }
+        if self.obl.level >= 1 {
             if self.algorithm.symmetries != SymmetrySet::None {
                 return bad(
                     "obl.level",
@@ -530,7 +563,10 @@ mod tests {
         assert!(e.contains("fast") && e.contains("target"), "{e}");
         // Off-Belief Learning: level 1 only for now, without what reads the true colours.
         let e = refused("[obl]\nlevel = 2\n", "x");
-        assert!(e.contains("obl.level") && e.contains("belief model"), "{e}");
+        assert!(e.contains("obl.previous") && e.contains("level 2"), "{e}");
+        let e = refused("[obl]\nlevel = 1\nprevious = \"runs/x\"\n", "x");
+        assert!(e.contains("obl.previous"), "{e}");
+        assert!(TrainConfig::from_toml_str("[obl]\nlevel = 3\nprevious = \"r\"\n", "x").is_ok());
         let e = refused(
             "[algorithm]\nsymmetries = \"colour\"\n[obl]\nlevel = 1\n",
             "x",

@@ -129,14 +129,26 @@ fn same_seed_same_weights_and_the_value_loss_falls() {
 }
 
 /// Exact resume, for Other-Play (per-seat symmetries drawn by episode) and for Off-Belief
-/// Learning level 1 (beliefs and level-0 moves drawn by step).
+/// Learning: level 1 (beliefs and level-0 moves drawn by step) and level 2 (the belief
+/// trained on level 1 anew at resume, memories rebuilt from the saved histories).
 #[test]
 fn resume_continues_exactly_like_an_uninterrupted_run() {
     let tmp = tempdir("resume");
     let dir = tmp.path();
     let mut obl = tiny(SymmetrySet::None, 4);
     obl.obl.level = 1;
-    for config in [tiny(SymmetrySet::Both, 4), obl] {
+    let level_one = dir.join("level-1.ykp");
+    one_thread(|| {
+        let mut t = Trainer::<MlpEncoder>::new(obl.clone(), 3).unwrap();
+        t.update().unwrap();
+        t.policy().write_atomic(&level_one).unwrap();
+    });
+    let mut obl2 = obl.clone();
+    obl2.obl.level = 2;
+    obl2.obl.previous = Some(level_one);
+    obl2.obl.belief_updates = 3;
+    obl2.obl.belief_hidden = 8;
+    for config in [tiny(SymmetrySet::Both, 4), obl, obl2] {
         let whole = one_thread(|| {
             let mut t = Trainer::<MlpEncoder>::new(config.clone(), 9).unwrap();
             for _ in 0..4 {

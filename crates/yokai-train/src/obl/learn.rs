@@ -16,10 +16,14 @@
 //! model's cross-entropy minus it estimates KL(exact ‖ model) per unseen card.
 
 use super::model::{available, neighbour_colours, BeliefModel};
+use crate::distribution::sample_row;
 use crate::trainer::{tensor2, to_vec};
+use crate::TrainedPolicy;
 use burn::optim::{AdamConfig, GradientsParams, ModuleOptimizer};
 use burn::prelude::*;
 use burn::tensor::TensorData;
+use rand_chacha::rand_core::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
 use yokai_agents::Policy;
 use yokai_engine::{derive_seed, Card, Config, Part, Seat};
 use yokai_vec::{Encoding, VecEnv, VecEnvOptions, VecError};
@@ -31,6 +35,9 @@ pub enum LevelBelow {
     /// A policy in every seat, built afresh for each seat of each episode from a seed
     /// (e.g. `TrainedPolicy::build` of the previous OBL level, or a scripted bot).
     Policy(Box<dyn FnMut(u64) -> Box<dyn Policy> + Send>),
+    /// A trained network in every seat (the previous OBL level), stepped for all seats of
+    /// all games in one batch, its memory read on every step as in training.
+    Network(Box<TrainedPolicy>),
 }
 
 /// Sizes and learning rate of belief training.
@@ -74,6 +81,8 @@ pub struct BeliefTrainer {
     players: LevelBelow,
     /// With a policy below: its seats per game, and the episode they were built for.
     seats: Vec<(u64, Vec<Box<dyn Policy>>)>,
+    /// With a network below: its memory per row, `[rows × H]`.
+    below_hidden: Vec<f32>,
     /// Every row's memory at the start of the next rollout, `[rows × H]`.
     hidden: Vec<f32>,
     updates: u64,
@@ -114,6 +123,10 @@ impl BeliefTrainer {
             device,
             model,
             env,
+            below_hidden: match &players {
+                LevelBelow::Network(net) => vec![0.0; rows * net.hidden_size()],
+                _ => Vec::new(),
+            },
             players,
             seats: Vec::new(),
             updates: 0,
@@ -122,6 +135,11 @@ impl BeliefTrainer {
 
     pub fn model(&self) -> &BeliefModel {
         &self.model
+    }
+
+    /// The trained model, for inference.
+    pub fn into_model(self) -> BeliefModel {
+        self.model.valid()
     }
 
     fn rows(&self) -> usize {
@@ -169,6 +187,10 @@ impl BeliefTrainer {
             LevelBelow::Random => {
                 let seed = derive_seed(derive_seed(self.seed, 0xBE3), step);
                 return self.env.sample_legal(seed, actions);
+            }
+            LevelBelow::Network(net) => {
+                let seed = derive_seed(derive_seed(self.seed, 0xBE5), step);
+                return choose_by_network(net, &self.env, &mut self.below_hidden, seed, actions);
             }
             LevelBelow::Policy(build) => build,
         };
@@ -313,6 +335,42 @@ impl BeliefTrainer {
             uniform_kl: kl / n as f64,
             slots: n,
         }
+    }
+}
+
+/// Every seat of every game steps `net`'s memory on its observation (`hidden`, per row);
+/// the acting seat of each game samples its action from the network's logits.
+fn choose_by_network(
+    net: &TrainedPolicy,
+    env: &VecEnv<f32>,
+    hidden: &mut [f32],
+    seed: u64,
+    actions: &mut [u32],
+) {
+    let game = env.config();
+    let (p, na) = (game.players(), game.num_actions());
+    let rows = actions.len() * p;
+    let encoding = net.encoding();
+    let l: usize = encoding.shape(game).iter().product();
+    let mut obs = vec![0f32; rows * l];
+    let mut keep = vec![0f32; rows];
+    for r in 0..rows {
+        let g = env.game(r / p);
+        encoding
+            .write(g, Seat((r % p) as u8), &mut obs[r * l..][..l])
+            .expect("buffers sized from the same config");
+        keep[r] = (g.steps() > 0) as u8 as f32;
+    }
+    let (logits, states) = net.step_batch(obs, hidden.to_vec(), keep);
+    hidden.copy_from_slice(&states);
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut mask = vec![0f32; na];
+    for (i, action) in actions.iter_mut().enumerate() {
+        let g = env.game(i);
+        let r = i * p + g.current_seat().index();
+        g.write_legal_mask(g.current_seat(), &mut mask);
+        let u = (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+        *action = sample_row(&logits[r * na..][..na], &mask, u, false).0 as u32;
     }
 }
 

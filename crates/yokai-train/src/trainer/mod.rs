@@ -99,6 +99,14 @@ pub struct UpdateStats {
     pub belief_loss: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub belief_accuracy: Option<f64>,
+    /// OBL levels ≥ 2: the belief model's cross-entropy of the true colours (nats per
+    /// unseen card) on its last training update, and that of the first-hand baseline (the
+    /// seat's own colours and the counts, which is exact for random play) on the same
+    /// cards: below it, the belief reads the previous level's conventions.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub obl_belief_cross_entropy: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub obl_belief_baseline: Option<f64>,
     /// Seconds spent acting (rollout) and learning (epochs) in this update.
     pub rollout_seconds: f64,
     pub learn_seconds: f64,
@@ -124,6 +132,8 @@ pub struct Trainer<E: Encoder, M: Recurrent = GruCell> {
     n_actions: usize,
     /// The last finished game of env 0 (deal seed, actions), to save as a replay.
     last_game: Option<(u64, Vec<u32>)>,
+    /// Off-Belief Learning levels ≥ 2: the level below and the belief trained on it.
+    previous: Option<obl::PreviousLevel>,
 }
 
 /// The device of inference outside training (evaluation, play, Python): burn's `flex` CPU
@@ -204,6 +214,16 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         let symmetries = Symmetry::enumerate(&game, s.colours(), s.rotations(), false);
         let hidden = model.hidden_size();
         let optim = optimizer(&config);
+        let previous = if config.obl.level >= 2 {
+            Some(obl::PreviousLevel::load(
+                &config,
+                &game,
+                seed,
+                &infer_device,
+            )?)
+        } else {
+            None
+        };
         let mut trainer = Trainer {
             state: LoopState {
                 update: 0,
@@ -225,6 +245,7 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             obs_len,
             n_actions: game.num_actions(),
             last_game: None,
+            previous,
         };
         for i in 0..n {
             trainer.draw_symmetries(i);
@@ -402,6 +423,11 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             cluster_reward: rollout.cluster_reward,
             belief_loss: losses.belief.map(|b| b.0),
             belief_accuracy: losses.belief.map(|b| b.1),
+            obl_belief_cross_entropy: self.previous.as_ref().map(|p| p.belief_stats.cross_entropy),
+            obl_belief_baseline: self
+                .previous
+                .as_ref()
+                .map(|p| p.belief_stats.uniform_cross_entropy),
             rollout_seconds,
             learn_seconds: secs - rollout_seconds,
         })

@@ -13,14 +13,23 @@
 //! target of that row; the waiting seats' rows carry neither (their value loss is off), so
 //! the critic learns the OBL value of the acting seats' histories only — the only values a
 //! target ever reads.
+//!
+//! Level 1 draws from the exact belief and plays level 0 (uniformly random) as partner;
+//! levels ≥ 2 draw from the belief model trained on the previous level and play the
+//! previous level's network as partner (`previous`).
+
+mod previous;
+
+pub(crate) use previous::PreviousLevel;
 
 use super::{tensor2, to_vec, TrainError, Trainer};
 use crate::network::{ActorCritic, Encoder, Recurrent};
-use crate::obl::continuation::uniform_random;
-use crate::obl::{continue_fictitiously, sample_first_hand_consistent, Continuation};
+use crate::obl::{continue_fictitiously, first_hand, sample_first_hand_consistent, Continuation};
+use previous::{replay_memory, Partner};
 use rand_chacha::rand_core::SeedableRng;
 use rand_chacha::ChaCha8Rng;
-use yokai_engine::{derive_seed, Seat};
+use yokai_engine::{derive_seed, Colour, Game, Part, Seat};
+use yokai_vec::{episode_seed, Encoding};
 
 impl<E: Encoder, M: Recurrent> Trainer<E, M> {
     /// The OBL value target of the acting row of every game at rollout step `t`, given each
@@ -42,18 +51,38 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         let mut rng = ChaCha8Rng::seed_from_u64(derive_seed(derive_seed(self.seed, 0x0B1), step));
         let mut partner_rng =
             ChaCha8Rng::seed_from_u64(derive_seed(derive_seed(self.seed, 0x0B2), step));
-        let mut partner = uniform_random(&mut partner_rng);
+        let colourings = match &self.previous {
+            None => (0..n)
+                .map(|i| {
+                    let game = self.env.game(i);
+                    sample_first_hand_consistent(game, game.current_seat(), &mut rng)
+                })
+                .collect(),
+            Some(previous) => self.sample_beliefs(previous, &mut rng)?,
+        };
+        let mut partner_states = match &self.previous {
+            None => vec![Vec::new(); n],
+            Some(previous) => self.partner_memories(previous, &colourings)?,
+        };
         let mut runs: Vec<(usize, Seat, Continuation)> = Vec::with_capacity(n);
-        for i in 0..n {
+        for (i, colours) in colourings.iter().enumerate() {
             let game = self.env.game(i);
             let seat = game.current_seat();
             let row = i * p + seat.index();
-            let colours = sample_first_hand_consistent(game, seat, &mut rng);
+            let mut partner = match &self.previous {
+                None => Partner::Random(&mut partner_rng),
+                Some(previous) => Partner::Previous {
+                    policy: &previous.policy,
+                    seats: partners_of(game, seat),
+                    states: std::mem::take(&mut partner_states[i]),
+                    rng: &mut partner_rng,
+                },
+            };
             let c = continue_fictitiously(
                 game,
-                &colours,
+                colours,
                 joint[row] as usize,
-                &mut partner,
+                &mut |g| partner.act(g),
                 shaping,
                 gamma,
                 4 * p,
@@ -105,6 +134,108 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             }
         }
         Ok(targets)
+    }
+}
+
+/// Every seat of `game` but `seat`.
+fn partners_of(game: &Game, seat: Seat) -> Vec<Seat> {
+    (0..game.config().players())
+        .map(|s| Seat(s as u8))
+        .filter(|&s| s != seat)
+        .collect()
+}
+
+impl<E: Encoder, M: Recurrent> Trainer<E, M> {
+    /// The first state of game `i`'s current episode (its deal) and the actions since.
+    fn episode_so_far(&self, i: usize) -> (Game, &[u32]) {
+        let seed = episode_seed(self.env_seed(), i, self.env.episodes(i));
+        (Game::new(self.game, seed), &self.state.history[i])
+    }
+
+    /// Levels ≥ 2: a colouring per game from the belief model, for its acting seat, whose
+    /// memory is rebuilt over the seat's real history.
+    fn sample_beliefs(
+        &self,
+        previous: &PreviousLevel,
+        rng: &mut ChaCha8Rng,
+    ) -> Result<Vec<Vec<Colour>>, TrainError> {
+        let n = self.config.ppo.num_envs;
+        let (y, game) = (self.game.cards(), self.game);
+        let hb = previous.belief.hidden_size();
+        let dev = self.infer_device.clone();
+        let (starts, histories): (Vec<Game>, Vec<&[u32]>) =
+            (0..n).map(|i| self.episode_so_far(i)).unzip();
+        let seats: Vec<Vec<Seat>> = (0..n)
+            .map(|i| vec![self.env.game(i).current_seat()])
+            .collect();
+        let graph = Encoding::Graph(Part::Full);
+        let (now, states) = replay_memory(starts, &histories, &seats, graph, hb, &mut |o, h, k| {
+            let rows = k.len();
+            let l = o.len() / rows;
+            to_vec(previous.belief.step(
+                tensor2(o, [rows, l], &dev),
+                tensor2(h, [rows, hb], &dev),
+                tensor2(k, [rows, 1], &dev),
+            ))
+        });
+        let l: usize = graph.shape(&game).iter().product();
+        let (mut obs, mut adjacency) = (vec![0f32; n * l], vec![0f32; n * y * y]);
+        let mut first = vec![None; n * y];
+        for (i, replayed) in now.iter().enumerate() {
+            let real = self.env.game(i);
+            if replayed != real {
+                return Err(TrainError::Obl(format!(
+                    "env {i}: replaying the episode's {} actions does not reach its state",
+                    histories[i].len()
+                )));
+            }
+            let seat = seats[i][0];
+            graph
+                .write(real, seat, &mut obs[i * l..][..l])
+                .expect("buffers sized from the same config");
+            real.write_adjacency(&mut adjacency[i * y * y..][..y * y])
+                .expect("buffers sized from the same config");
+            for (card, colour) in first_hand(real, seat) {
+                first[i * y + card.index()] = Some(colour.0);
+            }
+        }
+        let states = tensor2(states.concat(), [n, hb], &dev);
+        Ok(previous
+            .belief
+            .sample(&game, states, &obs, &adjacency, &first, rng))
+    }
+
+    /// Levels ≥ 2: every partner seat's memory of the previous level, rebuilt by replaying
+    /// each game's episode in its fictitious colouring (`[partners × H]` per game).
+    fn partner_memories(
+        &self,
+        previous: &PreviousLevel,
+        colourings: &[Vec<Colour>],
+    ) -> Result<Vec<Vec<f32>>, TrainError> {
+        let n = self.config.ppo.num_envs;
+        let mut starts = Vec::with_capacity(n);
+        let mut histories = Vec::with_capacity(n);
+        let mut seats = Vec::with_capacity(n);
+        for (i, colours) in colourings.iter().enumerate() {
+            let (start, history) = self.episode_so_far(i);
+            let start = start
+                .with_card_colours(colours)
+                .map_err(|e| TrainError::Obl(format!("env {i}: belief sample: {e}")))?;
+            starts.push(start);
+            histories.push(history);
+            let game = self.env.game(i);
+            seats.push(partners_of(game, game.current_seat()));
+        }
+        let policy = &previous.policy;
+        let (_, states) = replay_memory(
+            starts,
+            &histories,
+            &seats,
+            policy.encoding(),
+            policy.hidden_size(),
+            &mut |o, h, k| policy.step_batch(o, h, k).1,
+        );
+        Ok(states)
     }
 }
 

@@ -1,0 +1,199 @@
+//! OBL levels ≥ 2: the previous level as the partner inside the fictitious continuations,
+//! and the belief model trained on its self-play.
+//!
+//! **The partner's memory.** The previous level is a recurrent network whose memory read
+//! the real colours of the cards its seat observed. In a fictitious world those colours are
+//! different, so its real memory would carry facts of the real world into the fictitious
+//! one. Instead the partner's memory is rebuilt in the fictitious world: the episode so far
+//! is replayed from its deal, recoloured (the same actions are legal, whatever the
+//! colours), and the partner's network reads its observation of every state. The reference
+//! implementation (Hanabi) can reuse the real memory only because its LSTM reads public
+//! features only. The replay costs one batched network step per step of the episode so
+//! far; the partner's memories of all games are replayed together.
+//!
+//! **The belief** conditions on the acting seat's real history: its memory is rebuilt the
+//! same way from the real deal, so nothing beyond the checkpoint's action histories is
+//! needed to resume exactly.
+
+use crate::config::TrainConfig;
+use crate::distribution::sample_row;
+use crate::obl::learn::{BeliefStats, BeliefTrainConfig, BeliefTrainer, LevelBelow};
+use crate::obl::model::BeliefModel;
+use crate::trainer::TrainError;
+use crate::TrainedPolicy;
+use burn::prelude::*;
+use rand_chacha::rand_core::Rng;
+use rand_chacha::ChaCha8Rng;
+use yokai_engine::{derive_seed, Config, Game, Seat};
+use yokai_vec::Encoding;
+
+/// The level below a level ≥ 2 run: its policy and the belief trained on its games.
+pub(crate) struct PreviousLevel {
+    pub policy: TrainedPolicy,
+    pub belief: BeliefModel,
+    /// The belief's figures on its last training update.
+    pub belief_stats: BeliefStats,
+}
+
+impl PreviousLevel {
+    /// Load `obl.previous` (seed N's `seed-N` inside it where there is one) and train the
+    /// belief on its self-play, deterministically in `seed`.
+    pub fn load(
+        config: &TrainConfig,
+        game: &Config,
+        seed: u64,
+        device: &Device,
+    ) -> Result<PreviousLevel, TrainError> {
+        let given = config
+            .obl
+            .previous
+            .as_ref()
+            .expect("validated: levels ≥ 2 name their previous level");
+        let per_seed = given.join(format!("seed-{seed}"));
+        let path = if per_seed.is_dir() {
+            per_seed
+        } else {
+            given.clone()
+        };
+        let policy = TrainedPolicy::load(&path)?;
+        policy.check_game(game)?;
+        let belief_config = BeliefTrainConfig {
+            num_envs: 16,
+            rollout_steps: 16,
+            minibatches: 2,
+            hidden: config.obl.belief_hidden,
+            lr: 3e-3,
+            updates: config.obl.belief_updates,
+        };
+        let mut trainer = BeliefTrainer::new(
+            *game,
+            belief_config,
+            LevelBelow::Network(Box::new(policy.clone())),
+            derive_seed(seed, 0xB0B),
+            device.clone(),
+        )?;
+        let mut belief_stats = BeliefStats::default();
+        for _ in 0..config.obl.belief_updates {
+            belief_stats = trainer.update();
+        }
+        Ok(PreviousLevel {
+            policy,
+            belief: trainer.into_model(),
+            belief_stats,
+        })
+    }
+}
+
+/// Replay each game's episode so far (`histories`, action indices) from its first state in
+/// `starts`, stepping a recurrent memory on the observations (in `encoding`) of the seats
+/// `seats[g]` at every state, the current one included; all games advance together, one
+/// batched `step(obs, states, keep)` per state. Returns each game's current state and its
+/// seats' memories (`seats[g].len() × hidden`).
+pub(super) fn replay_memory(
+    starts: Vec<Game>,
+    histories: &[&[u32]],
+    seats: &[Vec<Seat>],
+    encoding: Encoding,
+    hidden: usize,
+    step: &mut dyn FnMut(Vec<f32>, Vec<f32>, Vec<f32>) -> Vec<f32>,
+) -> (Vec<Game>, Vec<Vec<f32>>) {
+    let mut games = starts;
+    let mut states: Vec<Vec<f32>> = seats.iter().map(|s| vec![0.0; s.len() * hidden]).collect();
+    let Some(config) = games.first().map(|g| *g.config()) else {
+        return (games, states);
+    };
+    let l: usize = encoding.shape(&config).iter().product();
+    let longest = histories.iter().map(|h| h.len()).max().unwrap_or(0);
+    for tau in 0..=longest {
+        let live: Vec<usize> = (0..games.len())
+            .filter(|&g| histories[g].len() >= tau && !seats[g].is_empty())
+            .collect();
+        let rows: usize = live.iter().map(|&g| seats[g].len()).sum();
+        if rows > 0 {
+            let mut obs = vec![0f32; rows * l];
+            let mut h = Vec::with_capacity(rows * hidden);
+            let mut r = 0;
+            for &g in &live {
+                for &seat in &seats[g] {
+                    encoding
+                        .write(&games[g], seat, &mut obs[r * l..][..l])
+                        .expect("buffers sized from the same config");
+                    r += 1;
+                }
+                h.extend_from_slice(&states[g]);
+            }
+            let keep = vec![(tau > 0) as u8 as f32; rows];
+            let new = step(obs, h, keep);
+            let mut at = 0;
+            for &g in &live {
+                let n = states[g].len();
+                states[g].copy_from_slice(&new[at..at + n]);
+                at += n;
+            }
+        }
+        for (g, game) in games.iter_mut().enumerate() {
+            if let Some(&action) = histories[g].get(tau) {
+                game.apply_index(action as usize)
+                    .expect("a recorded action is legal in any colouring");
+            }
+        }
+    }
+    (games, states)
+}
+
+/// Who plays the partners' turns in a fictitious continuation.
+pub(super) enum Partner<'a> {
+    /// Level 0: uniformly random legal play.
+    Random(&'a mut ChaCha8Rng),
+    /// The previous level: every partner seat's memory (rebuilt in the fictitious world)
+    /// reads each state; the acting one samples from its logits.
+    Previous {
+        policy: &'a TrainedPolicy,
+        seats: Vec<Seat>,
+        states: Vec<f32>,
+        rng: &'a mut ChaCha8Rng,
+    },
+}
+
+impl Partner<'_> {
+    /// The acting seat's action index in `game` (a partner of the seat the continuation is
+    /// for).
+    pub fn act(&mut self, game: &Game) -> usize {
+        match self {
+            Partner::Random(rng) => {
+                let legal = game.legal_actions(game.current_seat());
+                let pick = (rng.next_u64() % legal.len() as u64) as usize;
+                game.config().encode(legal[pick])
+            }
+            Partner::Previous {
+                policy,
+                seats,
+                states,
+                rng,
+            } => {
+                let encoding = policy.encoding();
+                let config = game.config();
+                let l: usize = encoding.shape(config).iter().product();
+                let mut obs = vec![0f32; seats.len() * l];
+                for (k, &seat) in seats.iter().enumerate() {
+                    encoding
+                        .write(game, seat, &mut obs[k * l..][..l])
+                        .expect("buffers sized from the same config");
+                }
+                let keep = vec![1.0; seats.len()];
+                let (logits, new) = policy.step_batch(obs, std::mem::take(states), keep);
+                *states = new;
+                let actor = game.current_seat();
+                let k = seats
+                    .iter()
+                    .position(|&s| s == actor)
+                    .expect("the continuation asks only for partners' actions");
+                let na = config.num_actions();
+                let mut mask = vec![0f32; na];
+                game.write_legal_mask(actor, &mut mask);
+                let u = (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+                sample_row(&logits[k * na..][..na], &mask, u, false).0
+            }
+        }
+    }
+}
