@@ -79,7 +79,8 @@ pub struct Args {
     device: yokai_train::Backend,
     /// Off-Belief Learning configs: train these levels in sequence, `1..3` (levels 1 and 2)
     /// or one number, each into `<out>/level-L/seed-N` with the level below
-    /// (`<out>/level-(L-1)`) as its previous level; the evaluation runs after each level.
+    /// (`<out>/level-(L-1)`) as its previous level and its starting weights (--init-from
+    /// applies to level 1); the evaluation runs after each level.
     #[arg(long, value_name = "A..B")]
     levels: Option<String>,
 }
@@ -149,7 +150,13 @@ pub fn run(args: Args) -> Result<(), String> {
     for level in levels {
         let mut c = config.clone();
         c.obl.level = level as u32;
-        c.obl.previous = (level >= 2).then(|| out.join(format!("level-{}", level - 1)));
+        if level >= 2 {
+            // The level below is the partner, and (as in the reference implementation) the
+            // starting point: level L starts from level L−1's weights.
+            let below = out.join(format!("level-{}", level - 1));
+            c.obl.previous = Some(below.clone());
+            c.run.init_from = Some(below);
+        }
         c.validate("config").map_err(|e| e.to_string())?;
         let dir = out.join(format!("level-{level}"));
         train_and_evaluate(&args, &c, &format!("{name} level {level}"), &seeds, &dir)?;
@@ -290,13 +297,16 @@ impl SeedJob<'_> {
             c
         } else {
             let mut c = self.config.clone();
-            if let Some(from) = &args.init_from {
+            // --init-from, else the config's own (set by --levels): seed N starts from
+            // `seed-N` where the path is a directory of runs.
+            let from = if c.obl.level >= 2 && args.levels.is_some() {
+                c.run.init_from.clone()
+            } else {
+                args.init_from.clone().or(c.run.init_from.clone())
+            };
+            if let Some(from) = from {
                 let per_seed = from.join(format!("seed-{seed}"));
-                c.run.init_from = Some(if per_seed.is_dir() {
-                    per_seed
-                } else {
-                    from.clone()
-                });
+                c.run.init_from = Some(if per_seed.is_dir() { per_seed } else { from });
             }
             c
         };

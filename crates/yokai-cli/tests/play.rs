@@ -400,6 +400,10 @@ fn train_obl_levels_in_sequence() {
         level_two.contains("level-1"),
         "level 2 names level 1: {level_two}"
     );
+    assert!(
+        level_two.contains("init_from") && level_two.contains("level-1/seed-0"),
+        "level 2 starts from level 1's seed 0: {level_two}"
+    );
     let e = yokai_err(&[
         "train",
         "quick",
