@@ -21,6 +21,7 @@ const PRESETS: &[(&str, &str)] = presets!(
     "quick",
     "quick-op",
     "obl-quick",
+    "obl-9c-2p",
     "cpu",
     "ippo-9c-2p",
     "he-9c-2p",
@@ -342,8 +343,14 @@ impl SeedJob<'_> {
         bar.finish_and_clear();
         self.progress.remove(&bar);
         let last = summary.last.as_ref();
+        // OBL levels ≥ 2: how much the belief reads of the level below.
+        let belief = last
+            .and_then(|s| Some((s.obl_belief_cross_entropy?, s.obl_belief_baseline?)))
+            .map_or(String::new(), |(ce, base)| {
+                format!("; belief {ce:.3} nats per unseen card (first-hand baseline {base:.3})")
+            });
         let line = format!(
-            "seed {seed}: {} updates, {} env steps ({} now, in {:.0} s: {:.0} SPS); last R {} → {}",
+            "seed {seed}: {} updates, {} env steps ({} now, in {:.0} s: {:.0} SPS); last R {}{belief} → {}",
             summary.updates,
             summary.env_steps,
             summary.env_steps_here,

@@ -382,6 +382,11 @@ fn train_obl_levels_in_sequence() {
         out.to_str().unwrap(),
     ]);
     assert!(o.status.success(), "{}", text(&o));
+    assert!(
+        text(&o).contains("nats per unseen card (first-hand baseline"),
+        "level 2's summary shows its belief: {}",
+        text(&o)
+    );
     for level in [1, 2] {
         let run = out.join(format!("level-{level}/seed-0"));
         assert!(run.join("policy.ykp").exists(), "level {level}");
