@@ -52,6 +52,21 @@ pub struct BeliefTrainConfig {
     pub updates: u64,
 }
 
+impl BeliefTrainConfig {
+    /// 16 games × 16 steps per update in 2 minibatches, lr 3·10⁻³ annealed over `updates`:
+    /// what OBL's levels ≥ 2 train their belief with (small enough to redo at resume).
+    pub fn small(hidden: usize, updates: u64) -> BeliefTrainConfig {
+        BeliefTrainConfig {
+            num_envs: 16,
+            rollout_steps: 16,
+            minibatches: 2,
+            hidden,
+            lr: 3e-3,
+            updates,
+        }
+    }
+}
+
 /// One update's figures, in nats per unseen card.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct BeliefStats {
@@ -385,14 +400,7 @@ mod tests {
     #[test]
     fn a_belief_model_trained_on_random_play_matches_the_exact_belief() {
         let game = Config::from_name("9c-2p-perfect").unwrap();
-        let config = BeliefTrainConfig {
-            num_envs: 16,
-            rollout_steps: 16,
-            minibatches: 2,
-            hidden: 32,
-            lr: 3e-3,
-            updates: 200,
-        };
+        let config = BeliefTrainConfig::small(32, 200);
         let mut t =
             BeliefTrainer::new(game, config, LevelBelow::Random, 1, Device::flex()).unwrap();
         let mut kl = Vec::new();
@@ -422,14 +430,7 @@ mod tests {
     #[test]
     fn a_belief_trained_on_a_convention_beats_the_first_hand_baseline() {
         let game = Config::from_name("9c-2p-perfect").unwrap();
-        let config = BeliefTrainConfig {
-            num_envs: 16,
-            rollout_steps: 16,
-            minibatches: 2,
-            hidden: 32,
-            lr: 3e-3,
-            updates: 200,
-        };
+        let config = BeliefTrainConfig::small(32, 200);
         let greedy = LevelBelow::Policy(Box::new(|_| Box::new(yokai_agents::GreedyPolicy::new())));
         let mut t = BeliefTrainer::new(game, config, greedy, 2, Device::flex()).unwrap();
         let stats: Vec<BeliefStats> = (0..200).map(|_| t.update()).collect();

@@ -57,14 +57,8 @@ impl PreviousLevel {
         };
         let policy = TrainedPolicy::load(&path)?;
         policy.check_game(game)?;
-        let belief_config = BeliefTrainConfig {
-            num_envs: 16,
-            rollout_steps: 16,
-            minibatches: 2,
-            hidden: config.obl.belief_hidden,
-            lr: 3e-3,
-            updates: config.obl.belief_updates,
-        };
+        let belief_config =
+            BeliefTrainConfig::small(config.obl.belief_hidden, config.obl.belief_updates);
         let mut trainer = BeliefTrainer::new(
             *game,
             belief_config,
