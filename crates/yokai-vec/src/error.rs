@@ -1,0 +1,30 @@
+//! Errors of the batched environment.
+
+use yokai_engine::ActionError;
+
+/// Errors of the batched environment. A failed `step` changes nothing.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum VecError {
+    #[error("expected {expected} actions ({what}), got {got}")]
+    ActionCount {
+        expected: usize,
+        got: usize,
+        what: &'static str,
+    },
+    #[error("env {env}: {source}")]
+    Action {
+        env: usize,
+        #[source]
+        source: ActionError,
+    },
+    #[error("env {env} does not exist (num_envs is {num_envs})")]
+    EnvIndex { env: usize, num_envs: usize },
+    #[error("env {env}: the saved actions finish the game, so it cannot be restored mid-episode")]
+    FinishedOnRestore { env: usize },
+    #[error("num_envs must be at least 1")]
+    NoEnvs,
+    #[error("unknown observation encoding `{0}` (expected image, image-public, image-private, the same with -chw for channels-first, graph, graph-public, graph-private or none)")]
+    Encoding(String),
+    #[error("could not start {threads} worker threads: {message}")]
+    Threads { threads: usize, message: String },
+}
