@@ -40,6 +40,10 @@ pub(super) struct LoopState {
     /// Per game: its episode index (written to checkpoints; the environment keeps it live).
     #[serde(default)]
     pub episodes: Vec<u64>,
+    /// OBL levels ≥ 2: the belief model's memory per row `[rows × H_belief]` (empty
+    /// otherwise).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub belief_hidden: Vec<f32>,
 }
 
 impl<E: Encoder, M: Recurrent> Trainer<E, M> {
@@ -149,6 +153,7 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             })?;
         let n = trainer.config.ppo.num_envs;
         if state.hidden.len() != trainer.state.hidden.len()
+            || state.belief_hidden.len() != trainer.state.belief_hidden.len()
             || state.episodes.len() != n
             || state.history.len() != n
         {

@@ -230,6 +230,9 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
                 hidden: vec![0.0; n * p * hidden],
                 history: vec![Vec::new(); n],
                 episodes: Vec::new(),
+                belief_hidden: previous
+                    .as_ref()
+                    .map_or(Vec::new(), |b| vec![0.0; n * p * b.belief.hidden_size()]),
             },
             row_sym: vec![(Symmetry::identity(&game), Symmetry::identity(&game)); n * p],
             config,

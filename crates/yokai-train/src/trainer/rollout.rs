@@ -119,6 +119,7 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             self.view(o, m);
             let keep = self.keeps();
             keeps[t * rows..][..rows].copy_from_slice(&keep);
+            self.step_belief_memory(o, &keep);
             let (out, h) = net.step(
                 tensor2(o.to_vec(), [rows, l], &dev),
                 tensor2(self.state.hidden.clone(), [rows, hsz], &dev),

@@ -152,44 +152,62 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         (Game::new(self.game, seed), &self.state.history[i])
     }
 
-    /// Levels ≥ 2: a colouring per game from the belief model, for its acting seat, whose
-    /// memory is rebuilt over the seat's real history.
+    /// Levels ≥ 2: every row's belief memory reads its observation of this step (`obs`, the
+    /// network's input; `keep` 0 where an episode starts). Every seat's memory steps on
+    /// every step, as it did on the previous level's games it learnt from.
+    pub(super) fn step_belief_memory(&mut self, obs: &[f32], keep: &[f32]) {
+        let Some(previous) = &self.previous else {
+            return;
+        };
+        let graph = Encoding::Graph(Part::Full);
+        let rows = keep.len();
+        let l: usize = graph.shape(&self.game).iter().product();
+        // The compact network reads the same graph observation; the paper's reads the image.
+        let written;
+        let obs = if E::encoding() == graph {
+            obs
+        } else {
+            let p = self.game.players();
+            let mut o = vec![0f32; rows * l];
+            for r in 0..rows {
+                graph
+                    .write(self.env.game(r / p), Seat((r % p) as u8), &mut o[r * l..][..l])
+                    .expect("buffers sized from the same config");
+            }
+            written = o;
+            &written
+        };
+        let dev = &self.infer_device;
+        let hb = previous.belief.hidden_size();
+        let h = previous.belief.step(
+            tensor2(obs.to_vec(), [rows, l], dev),
+            tensor2(std::mem::take(&mut self.state.belief_hidden), [rows, hb], dev),
+            tensor2(keep.to_vec(), [rows, 1], dev),
+        );
+        self.state.belief_hidden = to_vec(h);
+    }
+
+    /// Levels ≥ 2: a colouring per game from the belief model, for its acting seat, from the
+    /// memory that seat's real history built (`step_belief_memory`).
     fn sample_beliefs(
         &self,
         previous: &PreviousLevel,
         rng: &mut ChaCha8Rng,
     ) -> Result<Vec<Vec<Colour>>, TrainError> {
         let n = self.config.ppo.num_envs;
-        let (y, game) = (self.game.cards(), self.game);
+        let (y, p, game) = (self.game.cards(), self.game.players(), self.game);
         let hb = previous.belief.hidden_size();
         let dev = self.infer_device.clone();
-        let (starts, histories): (Vec<Game>, Vec<&[u32]>) =
-            (0..n).map(|i| self.episode_so_far(i)).unzip();
-        let seats: Vec<Vec<Seat>> = (0..n)
-            .map(|i| vec![self.env.game(i).current_seat()])
-            .collect();
         let graph = Encoding::Graph(Part::Full);
-        let (now, states) = replay_memory(starts, &histories, &seats, graph, hb, &mut |o, h, k| {
-            let rows = k.len();
-            let l = o.len() / rows;
-            to_vec(previous.belief.step(
-                tensor2(o, [rows, l], &dev),
-                tensor2(h, [rows, hb], &dev),
-                tensor2(k, [rows, 1], &dev),
-            ))
-        });
         let l: usize = graph.shape(&game).iter().product();
         let (mut obs, mut adjacency) = (vec![0f32; n * l], vec![0f32; n * y * y]);
         let mut first = vec![None; n * y];
-        for (i, replayed) in now.iter().enumerate() {
+        let mut states = Vec::with_capacity(n * hb);
+        for i in 0..n {
             let real = self.env.game(i);
-            if replayed != real {
-                return Err(TrainError::Obl(format!(
-                    "env {i}: replaying the episode's {} actions does not reach its state",
-                    histories[i].len()
-                )));
-            }
-            let seat = seats[i][0];
+            let seat = real.current_seat();
+            let row = i * p + seat.index();
+            states.extend_from_slice(&self.state.belief_hidden[row * hb..][..hb]);
             graph
                 .write(real, seat, &mut obs[i * l..][..l])
                 .expect("buffers sized from the same config");
@@ -199,7 +217,7 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
                 first[i * y + card.index()] = Some(colour.0);
             }
         }
-        let states = tensor2(states.concat(), [n, hb], &dev);
+        let states = tensor2(states, [n, hb], &dev);
         Ok(previous
             .belief
             .sample(&game, states, &obs, &adjacency, &first, rng))
@@ -227,7 +245,7 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             seats.push(partners_of(game, game.current_seat()));
         }
         let policy = &previous.policy;
-        let (_, states) = replay_memory(
+        let (replayed, states) = replay_memory(
             starts,
             &histories,
             &seats,
@@ -235,6 +253,15 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             policy.hidden_size(),
             &mut |o, h, k| policy.step_batch(o, h, k).1,
         );
+        for (i, game) in replayed.iter().enumerate() {
+            let real = self.env.game(i).with_card_colours(&colourings[i]);
+            if real.as_ref() != Ok(game) {
+                return Err(TrainError::Obl(format!(
+                    "env {i}: replaying the episode's {} actions does not reach its state",
+                    self.state.history[i].len()
+                )));
+            }
+        }
         Ok(states)
     }
 }

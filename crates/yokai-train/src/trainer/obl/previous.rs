@@ -11,9 +11,9 @@
 //! features only. The replay costs one batched network step per step of the episode so
 //! far; the partner's memories of all games are replayed together.
 //!
-//! **The belief** conditions on the acting seat's real history: its memory is rebuilt the
-//! same way from the real deal, so nothing beyond the checkpoint's action histories is
-//! needed to resume exactly.
+//! **The belief** conditions on the acting seat's real history: every row's belief memory
+//! steps on the row's real observation at every rollout step (`step_belief_memory`) and is
+//! saved in checkpoints, so a resume continues it exactly.
 
 use crate::config::TrainConfig;
 use crate::distribution::sample_row;
