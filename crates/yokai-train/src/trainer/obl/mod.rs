@@ -171,7 +171,11 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             let mut o = vec![0f32; rows * l];
             for r in 0..rows {
                 graph
-                    .write(self.env.game(r / p), Seat((r % p) as u8), &mut o[r * l..][..l])
+                    .write(
+                        self.env.game(r / p),
+                        Seat((r % p) as u8),
+                        &mut o[r * l..][..l],
+                    )
                     .expect("buffers sized from the same config");
             }
             written = o;
@@ -181,7 +185,11 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         let hb = previous.belief.hidden_size();
         let h = previous.belief.step(
             tensor2(obs.to_vec(), [rows, l], dev),
-            tensor2(std::mem::take(&mut self.state.belief_hidden), [rows, hb], dev),
+            tensor2(
+                std::mem::take(&mut self.state.belief_hidden),
+                [rows, hb],
+                dev,
+            ),
             tensor2(keep.to_vec(), [rows, 1], dev),
         );
         self.state.belief_hidden = to_vec(h);
