@@ -493,12 +493,17 @@ pub fn write_outputs(
         plots::write_both(
             dir,
             "learning_return",
-            &plots::lines_svg("Return R during training (no shaping)", "R", &ret),
+            &plots::lines_svg(
+                "Return R during training (no shaping)",
+                "environment steps",
+                "R",
+                &ret,
+            ),
         )?;
         plots::write_both(
             dir,
             "learning_see",
-            &plots::lines_svg("SEE during training", "SEE %", &see),
+            &plots::lines_svg("SEE during training", "environment steps", "SEE %", &see),
         )?;
         pictures.push(("learning curves: return", "learning_return.png"));
         pictures.push(("learning curves: SEE", "learning_see.png"));

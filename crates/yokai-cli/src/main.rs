@@ -7,6 +7,7 @@ mod paper;
 mod play;
 mod playthrough;
 mod plots;
+mod probe;
 mod random;
 mod replay;
 mod show;
@@ -60,6 +61,9 @@ enum Command {
     /// Random legal play across every preset through the batched environment, checking the
     /// rules' invariants at every step and replaying a sample against the reference.
     Soak(soak::Args),
+    /// Linear probes of card colours in trained policies' memories, by game step, in
+    /// self-play and with partners, against chance and a perfect-memory oracle.
+    Probe(probe::Args),
 }
 
 fn main() -> ExitCode {
@@ -83,6 +87,7 @@ fn main() -> ExitCode {
         Command::Play(args) => play::run(args),
         Command::Compare(args) => compare::run(args),
         Command::Replay(args) => replay::run(args),
+        Command::Probe(args) => probe::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

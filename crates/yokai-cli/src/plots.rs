@@ -93,8 +93,8 @@ const PALETTE: [&str; 12] = [
     "#bcbd22", "#17becf", "#393b79", "#637939",
 ];
 
-/// A line chart of `series` (x: environment steps).
-pub fn lines_svg(title: &str, y_label: &str, series: &[Series]) -> String {
+/// A line chart of `series`.
+pub fn lines_svg(title: &str, x_label: &str, y_label: &str, series: &[Series]) -> String {
     let (w, h) = (720.0, 420.0);
     let (left, right, top, bottom) = (70.0, 160.0, 40.0, 50.0);
     let all = series.iter().flat_map(|s| s.points.iter());
@@ -144,10 +144,11 @@ pub fn lines_svg(title: &str, y_label: &str, series: &[Series]) -> String {
     }
     let _ = writeln!(
         s,
-        "<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">environment steps</text>\
+        "<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">{}</text>\
          <text x=\"16\" y=\"{}\" transform=\"rotate(-90 16 {})\" text-anchor=\"middle\">{}</text>",
         (left + w - right) / 2.0,
         h - 10.0,
+        escape(x_label),
         (top + h - bottom) / 2.0,
         (top + h - bottom) / 2.0,
         escape(y_label)
@@ -306,7 +307,7 @@ mod tests {
                 points: vec![(0.0, -1.0), (10.0, 0.0)],
             },
         ];
-        let svg = lines_svg("R", "return", &series);
+        let svg = lines_svg("R", "environment steps", "return", &series);
         assert_eq!(svg.matches("class=\"series\"").count(), 2);
         let s = smooth(&[(0.0, 0.0), (1.0, 3.0), (2.0, 6.0)], 3);
         assert_eq!(s, vec![(0.0, 1.5), (1.0, 3.0), (2.0, 4.5)]);

@@ -421,3 +421,74 @@ fn train_obl_levels_in_sequence() {
     let e = yokai_err(&["train", config.to_str().unwrap(), "--levels", "0..2"]);
     assert!(e.contains("counts from 1"), "{e}");
 }
+
+/// `yokai probe` on trained runs writes per-step accuracies (self-play on held-out
+/// episodes, and with a partner) beside the oracle, as CSV, JSON and a plot; a missing run
+/// is an error that names it.
+#[test]
+fn probe_trained_runs() {
+    let tmp = tempdir("probe");
+    let dir = tmp.path();
+    let config = dir.join("tiny.toml");
+    std::fs::write(
+        &config,
+        "game = \"9c-2p-perfect\"\n[network]\npreset = \"compact\"\nhidden = 16\n\
+         [ppo]\nnum_envs = 8\nrollout_steps = 8\nminibatches = 2\nepochs = 1\ntotal_steps = 128\n",
+    )
+    .unwrap();
+    let runs = dir.join("runs");
+    let o = yokai(&[
+        "train",
+        config.to_str().unwrap(),
+        "--seeds",
+        "0..2",
+        "--eval-games",
+        "0",
+        "--threads",
+        "1",
+        "--out",
+        runs.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let out = dir.join("probe");
+    let (a, b) = (runs.join("seed-0"), runs.join("seed-1"));
+    let o = yokai(&[
+        "probe",
+        a.to_str().unwrap(),
+        "--partners",
+        b.to_str().unwrap(),
+        "--games",
+        "100",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(text(&o).contains("| self-play |"), "{}", text(&o));
+    let csv = std::fs::read_to_string(out.join("probe.csv")).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(
+        lines.next(),
+        Some("run,setting,step,cards,accuracy,oracle,rows")
+    );
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert!(rows.iter().any(|r| r[1] == "self-play" && r[3] == "unseen"));
+    assert!(rows
+        .iter()
+        .any(|r| r[1].starts_with("with ") && r[3] == "all"));
+    for r in &rows {
+        let (acc, oracle): (f64, f64) = (r[4].parse().unwrap(), r[5].parse().unwrap());
+        assert!(
+            (0.0..=1.0).contains(&acc) && (0.0..=1.0).contains(&oracle),
+            "{r:?}"
+        );
+        if r[2] == "0" && r[3] == "all" {
+            // Nothing is seen at the first state: the oracle names one colour for all.
+            assert!((oracle - 1.0 / 3.0).abs() < 1e-3, "{r:?}");
+        }
+    }
+    for file in ["probe.json", "probe.svg", "probe.png"] {
+        assert!(out.join(file).exists(), "{file}");
+    }
+    let e = yokai_err(&["probe", dir.join("nothing").to_str().unwrap()]);
+    assert!(e.contains("nothing"), "{e}");
+}

@@ -20,6 +20,7 @@ pub use file::{Container, FileError};
 pub use network::{ActorCritic, CnnEncoder, Encoder, GruCell, MlpEncoder, Recurrent};
 pub use trainer::{default_device, FileHeader, TrainError, Trainer, UpdateStats};
 pub mod policy;
+pub mod probe;
 pub mod run;
 
 pub use policy::{NetworkPolicy, TrainedPolicy};

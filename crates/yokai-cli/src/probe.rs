@@ -1,0 +1,202 @@
+//! `yokai probe`: linear probes of card colours in trained policies' memories, step by step
+//! through a game, in self-play (held-out episodes) and with other partners.
+
+use crate::plots::{self, Series};
+use std::fmt::Write as _;
+use std::path::PathBuf;
+use yokai_train::probe::{evaluate, fit, record, StepAccuracy};
+use yokai_train::TrainedPolicy;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// Trained runs to probe: run directories, policy files or checkpoints.
+    #[arg(required = true)]
+    runs: Vec<PathBuf>,
+    /// Partners for cross-play (trained runs): each probed run's memory is read in games
+    /// with each partner, both seatings, by the probes fitted on its self-play.
+    #[arg(long, num_args = 1..)]
+    partners: Vec<PathBuf>,
+    /// Self-play games per run (80 % of episodes fit the probes, 20 % test them) and games
+    /// per seating with each partner.
+    #[arg(long, default_value_t = 500)]
+    games: usize,
+    /// Seed of the deals and of the actions sampled.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Where probe.csv, probe.json and probe.svg/png go.
+    #[arg(short, long, default_value = "runs/probe")]
+    out: PathBuf,
+}
+
+/// One probed setting's curve.
+struct Curve {
+    run: String,
+    setting: String,
+    steps: Vec<StepAccuracy>,
+}
+
+/// Steps with fewer rows than this are left out of the curves.
+const MIN_ROWS: usize = 20;
+
+pub fn run(args: Args) -> Result<(), String> {
+    let load = |path: &PathBuf| TrainedPolicy::load(path).map_err(|e| e.to_string());
+    let partners: Vec<TrainedPolicy> = args.partners.iter().map(load).collect::<Result<_, _>>()?;
+    let mut curves = Vec::new();
+    for path in &args.runs {
+        let policy = load(path)?;
+        let game = *policy.game();
+        if game.players() != 2 {
+            return Err(format!(
+                "{}: probes are built for 2-player games (its game has {} players)",
+                path.display(),
+                game.players()
+            ));
+        }
+        for partner in &partners {
+            partner.check_game(&game).map_err(|e| e.to_string())?;
+        }
+        let name = path.display().to_string();
+        eprintln!("probing {name}: {} self-play games", args.games);
+        let own = record(
+            &game,
+            &[&policy, &policy],
+            &[true, true],
+            args.games,
+            args.seed,
+        );
+        let probes = fit(&game, &own, |e| e % 5 != 0);
+        curves.push(Curve {
+            run: name.clone(),
+            setting: "self-play".into(),
+            steps: evaluate(&game, &probes, &own, |e| e % 5 == 0, MIN_ROWS),
+        });
+        for (partner, partner_path) in partners.iter().zip(&args.partners) {
+            let mut with = record(
+                &game,
+                &[&policy, partner],
+                &[true, false],
+                args.games,
+                args.seed + 1,
+            );
+            let other = record(
+                &game,
+                &[partner, &policy],
+                &[false, true],
+                args.games,
+                args.seed + 2,
+            );
+            with.states.extend(other.states);
+            with.colours.extend(other.colours);
+            with.seen.extend(other.seen);
+            with.steps.extend(other.steps);
+            with.episodes.extend(other.episodes);
+            curves.push(Curve {
+                run: name.clone(),
+                setting: format!("with {}", partner_path.display()),
+                steps: evaluate(&game, &probes, &with, |_| true, MIN_ROWS),
+            });
+        }
+    }
+    std::fs::create_dir_all(&args.out)
+        .map_err(|e| format!("cannot create {}: {e}", args.out.display()))?;
+    let chance = 1.0 / 3.0;
+    let mut csv = String::from("run,setting,step,cards,accuracy,oracle,rows\n");
+    let mut json = Vec::new();
+    let mut series = Vec::new();
+    let mut table = String::from(
+        "| run | setting | all cards | oracle | unseen cards | oracle (unseen) |\n|---|---|---|---|---|---|\n",
+    );
+    for c in &curves {
+        for s in &c.steps {
+            let _ = writeln!(
+                csv,
+                "{},{},{},all,{:.4},{:.4},{}",
+                c.run, c.setting, s.step, s.all, s.oracle_all, s.rows
+            );
+            if let (Some(u), Some(o)) = (s.unseen, s.oracle_unseen) {
+                let _ = writeln!(
+                    csv,
+                    "{},{},{},unseen,{:.4},{:.4},{}",
+                    c.run, c.setting, s.step, u, o, s.rows
+                );
+            }
+            json.push(serde_json::json!({
+                "run": c.run, "setting": c.setting, "step": s.step, "rows": s.rows,
+                "all": s.all, "oracle_all": s.oracle_all,
+                "unseen": s.unseen, "oracle_unseen": s.oracle_unseen,
+            }));
+        }
+        let mean = |f: &dyn Fn(&StepAccuracy) -> Option<f64>| {
+            let v: Vec<f64> = c.steps.iter().filter_map(f).collect();
+            if v.is_empty() {
+                "–".to_string()
+            } else {
+                format!("{:.1} %", 100.0 * v.iter().sum::<f64>() / v.len() as f64)
+            }
+        };
+        let _ = writeln!(
+            table,
+            "| {} | {} | {} | {} | {} | {} |",
+            c.run,
+            c.setting,
+            mean(&|s| Some(s.all)),
+            mean(&|s| Some(s.oracle_all)),
+            mean(&|s| s.unseen),
+            mean(&|s| s.oracle_unseen)
+        );
+        let points = |f: &dyn Fn(&StepAccuracy) -> Option<f64>| {
+            c.steps
+                .iter()
+                .filter_map(|s| f(s).map(|v| (s.step as f64, v)))
+                .collect()
+        };
+        series.push(Series {
+            label: format!("{} {} unseen", short(&c.run), c.setting),
+            points: points(&|s| s.unseen),
+        });
+        if c.setting == "self-play" {
+            series.push(Series {
+                label: format!("{} oracle unseen", short(&c.run)),
+                points: points(&|s| s.oracle_unseen),
+            });
+        }
+    }
+    let longest = curves
+        .iter()
+        .flat_map(|c| c.steps.iter().map(|s| s.step))
+        .max()
+        .unwrap_or(1);
+    series.push(Series {
+        label: "chance".into(),
+        points: vec![(0.0, chance), (longest as f64, chance)],
+    });
+    let write = |name: &str, text: &str| {
+        let path = args.out.join(name);
+        std::fs::write(&path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))
+    };
+    write("probe.csv", &csv)?;
+    write(
+        "probe.json",
+        &serde_json::to_string_pretty(&json).expect("json values serialise"),
+    )?;
+    let svg = plots::lines_svg(
+        "Linear probes: colours of unseen cards read from the memory",
+        "game step",
+        "accuracy",
+        &series,
+    );
+    plots::write_both(&args.out, "probe", &svg)?;
+    println!(
+        "Linear probes of card colours (mean over game steps; chance {:.1} %; {} games)\n\n{table}",
+        100.0 * chance,
+        args.games
+    );
+    eprintln!("wrote {}", args.out.display());
+    Ok(())
+}
+
+/// The last two path components of a run, for legends.
+fn short(path: &str) -> String {
+    let parts: Vec<&str> = path.trim_end_matches('/').rsplit('/').take(2).collect();
+    parts.into_iter().rev().collect::<Vec<_>>().join("/")
+}
