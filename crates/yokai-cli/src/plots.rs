@@ -95,8 +95,15 @@ const PALETTE: [&str; 12] = [
 
 /// A line chart of `series`.
 pub fn lines_svg(title: &str, x_label: &str, y_label: &str, series: &[Series]) -> String {
-    let (w, h) = (720.0, 420.0);
-    let (left, right, top, bottom) = (70.0, 160.0, 40.0, 50.0);
+    // The legend sits right of the plot: wide enough for its longest label.
+    let longest = series
+        .iter()
+        .map(|s| s.label.chars().count())
+        .max()
+        .unwrap_or(0);
+    let right = (30.0 + 7.0 * longest as f64).max(160.0);
+    let (w, h) = (560.0 + right, 420.0);
+    let (left, top, bottom) = (70.0, 40.0, 50.0);
     let all = series.iter().flat_map(|s| s.points.iter());
     let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
     for &(x, y) in all {

@@ -150,13 +150,18 @@ pub fn run(args: Args) -> Result<(), String> {
                 .filter_map(|s| f(s).map(|v| (s.step as f64, v)))
                 .collect()
         };
+        // Legends name runs and partners by their last two path components.
+        let setting = match c.setting.strip_prefix("with ") {
+            Some(partner) => format!("with {}", short(partner)),
+            None => c.setting.clone(),
+        };
         series.push(Series {
-            label: format!("{} {} unseen", short(&c.run), c.setting),
+            label: format!("{} {setting}", short(&c.run)),
             points: points(&|s| s.unseen),
         });
         if c.setting == "self-play" {
             series.push(Series {
-                label: format!("{} oracle unseen", short(&c.run)),
+                label: format!("{} oracle", short(&c.run)),
                 points: points(&|s| s.oracle_unseen),
             });
         }
