@@ -17,7 +17,8 @@ pub struct Args {
     #[arg(long, num_args = 1..)]
     partners: Vec<PathBuf>,
     /// Self-play games per run (80 % of episodes fit the probes, 20 % test them) and games
-    /// per seating with each partner.
+    /// per seating with each partner; at least 50. Steps that fewer than 20 seat states
+    /// reach (late steps of short games) are left out.
     #[arg(long, default_value_t = 500)]
     games: usize,
     /// Seed of the deals and of the actions sampled.
@@ -39,6 +40,13 @@ struct Curve {
 const MIN_ROWS: usize = 20;
 
 pub fn run(args: Args) -> Result<(), String> {
+    if args.games < 50 {
+        return Err(format!(
+            "--games {} is too few: the held-out fifth of the self-play games must give each \
+             game step at least {MIN_ROWS} seat states (use 50 or more)",
+            args.games
+        ));
+    }
     let load = |path: &PathBuf| TrainedPolicy::load(path).map_err(|e| e.to_string());
     let partners: Vec<TrainedPolicy> = args.partners.iter().map(load).collect::<Result<_, _>>()?;
     let mut curves = Vec::new();

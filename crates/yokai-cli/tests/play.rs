@@ -491,4 +491,6 @@ fn probe_trained_runs() {
     }
     let e = yokai_err(&["probe", dir.join("nothing").to_str().unwrap()]);
     assert!(e.contains("nothing"), "{e}");
+    let e = yokai_err(&["probe", a.to_str().unwrap(), "--games", "10"]);
+    assert!(e.contains("--games 10 is too few"), "{e}");
 }
