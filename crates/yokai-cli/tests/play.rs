@@ -28,6 +28,22 @@ fn tempdir(name: &str) -> tempfile::TempDir {
         .unwrap()
 }
 
+/// A tiny training config (compact network, 8 games × 8 steps, 2 updates) in `dir`, with
+/// `extra` TOML appended; its path.
+fn tiny_config(dir: &std::path::Path, extra: &str) -> std::path::PathBuf {
+    let path = dir.join("tiny.toml");
+    std::fs::write(
+        &path,
+        format!(
+            "game = \"9c-2p-perfect\"\n[network]\npreset = \"compact\"\nhidden = 16\n\
+             [ppo]\nnum_envs = 8\nrollout_steps = 8\nminibatches = 2\nepochs = 1\n\
+             total_steps = 128\n{extra}"
+        ),
+    )
+    .unwrap();
+    path
+}
+
 fn text(o: &Output) -> String {
     format!(
         "{}{}",
@@ -128,13 +144,7 @@ fn a_broken_replay_names_the_file_and_line() {
 fn train_then_eval_a_run_directory() {
     let tmp = tempdir("train");
     let dir = tmp.path();
-    let config = dir.join("tiny.toml");
-    std::fs::write(
-        &config,
-        "game = \"9c-2p-perfect\"\n[network]\npreset = \"compact\"\nhidden = 16\n\
-         [ppo]\nnum_envs = 8\nrollout_steps = 8\nminibatches = 2\nepochs = 1\ntotal_steps = 128\n",
-    )
-    .unwrap();
+    let config = tiny_config(dir, "");
     let out_dir = dir.join("runs");
     // Seeds 0 and 1 of the tiny config into `out`, with more options.
     let train_two = |out: &std::path::Path, more: &[&str]| {
@@ -358,14 +368,10 @@ fn soak_plays_every_preset_and_replays_a_sample_against_the_reference() {
 fn train_obl_levels_in_sequence() {
     let tmp = tempdir("levels");
     let dir = tmp.path();
-    let config = dir.join("obl.toml");
-    std::fs::write(
-        &config,
-        "game = \"9c-2p-perfect\"\n[network]\npreset = \"compact\"\nhidden = 16\n\
-         [ppo]\nnum_envs = 8\nrollout_steps = 8\nminibatches = 2\nepochs = 1\ntotal_steps = 128\n\
-         [obl]\nlevel = 1\nbelief_updates = 2\nbelief_hidden = 8\n",
-    )
-    .unwrap();
+    let config = tiny_config(
+        dir,
+        "[obl]\nlevel = 1\nbelief_updates = 2\nbelief_hidden = 8\n",
+    );
     let out = dir.join("runs");
     let o = yokai(&[
         "train",
@@ -429,13 +435,7 @@ fn train_obl_levels_in_sequence() {
 fn probe_trained_runs() {
     let tmp = tempdir("probe");
     let dir = tmp.path();
-    let config = dir.join("tiny.toml");
-    std::fs::write(
-        &config,
-        "game = \"9c-2p-perfect\"\n[network]\npreset = \"compact\"\nhidden = 16\n\
-         [ppo]\nnum_envs = 8\nrollout_steps = 8\nminibatches = 2\nepochs = 1\ntotal_steps = 128\n",
-    )
-    .unwrap();
+    let config = tiny_config(dir, "");
     let runs = dir.join("runs");
     let o = yokai(&[
         "train",
