@@ -100,7 +100,7 @@ pub struct UpdateStats {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub belief_accuracy: Option<f64>,
     /// OBL levels ≥ 2: the belief model's cross-entropy of the true colours (nats per
-    /// unseen card) on its last training update, and that of the first-hand baseline (the
+    /// unseen card) over its last 20 training updates, and that of the first-hand baseline (the
     /// seat's own colours and the counts, which is exact for random play) on the same
     /// cards: below it, the belief reads the previous level's conventions.
     #[serde(default, skip_serializing_if = "Option::is_none")]

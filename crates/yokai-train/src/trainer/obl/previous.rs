@@ -27,11 +27,15 @@ use rand_chacha::ChaCha8Rng;
 use yokai_engine::{derive_seed, Config, Game, Seat};
 use yokai_vec::Encoding;
 
+/// Updates at the end of the belief's training whose figures are averaged for the report.
+const REPORTED_UPDATES: u64 = 20;
+
 /// The level below a level ≥ 2 run: its policy and the belief trained on its games.
 pub(crate) struct PreviousLevel {
     pub policy: TrainedPolicy,
     pub belief: BeliefModel,
-    /// The belief's figures on its last training update.
+    /// The belief's figures over its last `REPORTED_UPDATES` training updates (each
+    /// measured on its rollout before learning from it).
     pub belief_stats: BeliefStats,
 }
 
@@ -66,10 +70,25 @@ impl PreviousLevel {
             derive_seed(seed, 0xB0B),
             device.clone(),
         )?;
+        // The figures reported: slot-weighted means over the last updates (one rollout of
+        // 16 games is too few to compare a belief with its baseline).
+        let updates = config.obl.belief_updates;
+        let tail = updates.min(REPORTED_UPDATES);
         let mut belief_stats = BeliefStats::default();
-        for _ in 0..config.obl.belief_updates {
-            belief_stats = trainer.update();
+        for u in 0..updates {
+            let s = trainer.update();
+            if u + tail >= updates {
+                let w = s.slots as f64;
+                belief_stats.cross_entropy += s.cross_entropy * w;
+                belief_stats.uniform_cross_entropy += s.uniform_cross_entropy * w;
+                belief_stats.uniform_kl += s.uniform_kl * w;
+                belief_stats.slots += s.slots;
+            }
         }
+        let n = belief_stats.slots.max(1) as f64;
+        belief_stats.cross_entropy /= n;
+        belief_stats.uniform_cross_entropy /= n;
+        belief_stats.uniform_kl /= n;
         Ok(PreviousLevel {
             policy,
             belief: trainer.into_model(),
