@@ -9,7 +9,7 @@
 use crate::action::Action;
 use crate::bitboard::Cell;
 use crate::config::Config;
-use crate::observation::{BufferError, Part, Scalar};
+use crate::observation::{BufferError, ImageLayout, Part, Scalar};
 use crate::types::{Colour, ColourSet, MAX_COLOURS};
 
 /// One element of (colour permutations) × (dihedral group of the square grid).
@@ -238,6 +238,19 @@ impl Symmetry {
         input: &[T],
         out: &mut [T],
     ) -> Result<(), BufferError> {
+        self.apply_image_in(config, part, ImageLayout::Hwc, input, out)
+    }
+
+    /// [`Symmetry::apply_image`] for an image in `layout` (channels-last or channels-first):
+    /// the same map, so Other-Play works on either layout the environment writes.
+    pub fn apply_image_in<T: Scalar>(
+        &self,
+        config: &Config,
+        part: Part,
+        layout: ImageLayout,
+        input: &[T],
+        out: &mut [T],
+    ) -> Result<(), BufferError> {
         let shape = config.image_shape(part);
         let len: usize = shape.iter().product();
         check(len, input.len(), "image observation (input)")?;
@@ -245,8 +258,15 @@ impl Symmetry {
         let g = config.grid();
         let width = g + 1;
         let f = shape[2];
+        let plane = g * width;
+        // Where channel k of pixel p (= r·(g+1) + c) lies in the buffer.
+        let at = |p: usize, k: usize| match layout {
+            ImageLayout::Hwc => p * f + k,
+            ImageLayout::Chw => k * plane + p,
+        };
         let ch = config.image_channels();
         let scale = g as u32 - 1;
+        let (mut src, mut dst) = (vec![T::ZERO; f], vec![T::ZERO; f]);
         for r in 0..g {
             for c in 0..width {
                 let (tr, tc) = if c < g {
@@ -255,18 +275,23 @@ impl Symmetry {
                 } else {
                     (r, c)
                 };
-                let src = &input[(r * width + c) * f..][..f];
-                let dst = &mut out[(tr * width + tc) * f..][..f];
-                if part == Part::Private {
-                    self.permute_colours(src, dst, 0);
-                    continue;
+                let (from, to) = (r * width + c, tr * width + tc);
+                for (k, v) in src.iter_mut().enumerate() {
+                    *v = input[at(from, k)];
                 }
-                dst.copy_from_slice(src);
-                self.permute_colours(src, dst, ch.known);
-                self.permute_colours(src, dst, ch.hint);
-                if c < g {
-                    dst[ch.row] = T::ratio(tr as u32, scale);
-                    dst[ch.col] = T::ratio(tc as u32, scale);
+                if part == Part::Private {
+                    self.permute_colours(&src, &mut dst, 0);
+                } else {
+                    dst.copy_from_slice(&src);
+                    self.permute_colours(&src, &mut dst, ch.known);
+                    self.permute_colours(&src, &mut dst, ch.hint);
+                    if c < g {
+                        dst[ch.row] = T::ratio(tr as u32, scale);
+                        dst[ch.col] = T::ratio(tc as u32, scale);
+                    }
+                }
+                for (k, &v) in dst.iter().enumerate() {
+                    out[at(to, k)] = v;
                 }
             }
         }

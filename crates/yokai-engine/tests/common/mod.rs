@@ -375,6 +375,22 @@ fn check_observations(game: &Game, twin: &Game, sym: &Symmetry, seat: Seat) {
         );
         inv.apply_image(&config, part, &t, &mut back).unwrap();
         assert_eq!(back, a);
+        // The same in the channels-first layout.
+        let (mut ac, mut bc, mut tc, mut backc) =
+            (vec![0f32; n], vec![0f32; n], vec![0f32; n], vec![0f32; n]);
+        game.write_image_in(seat, part, ImageLayout::Chw, &mut ac)
+            .unwrap();
+        twin.write_image_in(seat, part, ImageLayout::Chw, &mut bc)
+            .unwrap();
+        sym.apply_image_in(&config, part, ImageLayout::Chw, &ac, &mut tc)
+            .unwrap();
+        assert_eq!(
+            tc, bc,
+            "channels-first image {part:?} of {seat} under {sym:?}"
+        );
+        inv.apply_image_in(&config, part, ImageLayout::Chw, &tc, &mut backc)
+            .unwrap();
+        assert_eq!(backc, ac);
         let mut a8 = vec![0u8; n];
         game.write_image(seat, part, &mut a8).unwrap();
         let scales = config.image_channels().scales(&config);

@@ -33,9 +33,7 @@ use checkpoint::LoopState;
 use rand_chacha::rand_core::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
-use yokai_engine::{
-    derive_seed, Card, Config, EpisodeRecord, ImageLayout, Metrics, RecordedGame, Symmetry,
-};
+use yokai_engine::{derive_seed, Card, Config, EpisodeRecord, Metrics, RecordedGame, Symmetry};
 use yokai_vec::{Encoding, VecEnv, VecEnvOptions, VecError};
 
 /// Why training cannot go on.
@@ -342,11 +340,8 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
                 continue;
             }
             match E::encoding() {
-                Encoding::Image(part, ImageLayout::Hwc) => {
-                    sym.apply_image(&self.game, part, o_in, o_out)
-                }
-                Encoding::Image(_, ImageLayout::Chw) => {
-                    unreachable!("the trainer's encoders read the HWC image of RULES §5")
+                Encoding::Image(part, layout) => {
+                    sym.apply_image_in(&self.game, part, layout, o_in, o_out)
                 }
                 Encoding::Graph(part) => sym.apply_nodes(&self.game, part, o_in, o_out),
                 Encoding::None => Ok(()),
