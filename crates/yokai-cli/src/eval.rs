@@ -519,28 +519,40 @@ pub fn write_outputs(
         serde_json::to_string_pretty(&summary).expect("summary serialises"),
     )?;
     write("report.md", report.to_string())?;
-    let mut csv = String::from(
-        "row,col,games,reward,reward_se,win_rate,see,ee,wee,length,correct_hints,wrong_hints\n",
+    let csv = crate::table::csv_text(
+        &[
+            "row",
+            "col",
+            "games",
+            "reward",
+            "reward_se",
+            "win_rate",
+            "see",
+            "ee",
+            "wee",
+            "length",
+            "correct_hints",
+            "wrong_hints",
+        ],
+        results.iter().map(|c| {
+            let m = &c.metrics;
+            vec![
+                names[c.row].clone(),
+                names[c.col].clone(),
+                m.games.to_string(),
+                m.reward.to_string(),
+                m.reward_se.to_string(),
+                m.win_rate.to_string(),
+                m.successful_early_end.to_string(),
+                m.early_end.to_string(),
+                m.win_given_early_end
+                    .map_or(String::new(), |w| w.to_string()),
+                m.length.to_string(),
+                m.correct_hints.to_string(),
+                m.wrong_hints.to_string(),
+            ]
+        }),
     );
-    for c in results {
-        let m = &c.metrics;
-        csv += &format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{}\n",
-            names[c.row],
-            names[c.col],
-            m.games,
-            m.reward,
-            m.reward_se,
-            m.win_rate,
-            m.successful_early_end,
-            m.early_end,
-            m.win_given_early_end
-                .map_or(String::new(), |w| w.to_string()),
-            m.length,
-            m.correct_hints,
-            m.wrong_hints
-        );
-    }
     write("matrix.csv", csv)?;
     let json: Vec<serde_json::Value> = results
         .iter()

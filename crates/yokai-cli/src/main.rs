@@ -14,6 +14,7 @@ mod show;
 mod soak;
 mod summary;
 mod svg;
+mod table;
 mod train;
 
 use clap::{Parser, Subcommand};

@@ -108,7 +108,7 @@ pub fn run(args: Args) -> Result<(), String> {
     std::fs::create_dir_all(&args.out)
         .map_err(|e| format!("cannot create {}: {e}", args.out.display()))?;
     let chance = 1.0 / 3.0;
-    let mut csv = String::from("run,setting,step,cards,accuracy,oracle,rows\n");
+    let mut csv_rows = Vec::new();
     let mut json = Vec::new();
     let mut series = Vec::new();
     let mut table = String::from(
@@ -116,17 +116,20 @@ pub fn run(args: Args) -> Result<(), String> {
     );
     for c in &curves {
         for s in &c.steps {
-            let _ = writeln!(
-                csv,
-                "{},{},{},all,{:.4},{:.4},{}",
-                c.run, c.setting, s.step, s.all, s.oracle_all, s.rows
-            );
+            let row = |cards: &str, acc: f64, oracle: f64| {
+                vec![
+                    c.run.clone(),
+                    c.setting.clone(),
+                    s.step.to_string(),
+                    cards.to_string(),
+                    format!("{acc:.4}"),
+                    format!("{oracle:.4}"),
+                    s.rows.to_string(),
+                ]
+            };
+            csv_rows.push(row("all", s.all, s.oracle_all));
             if let (Some(u), Some(o)) = (s.unseen, s.oracle_unseen) {
-                let _ = writeln!(
-                    csv,
-                    "{},{},{},unseen,{:.4},{:.4},{}",
-                    c.run, c.setting, s.step, u, o, s.rows
-                );
+                csv_rows.push(row("unseen", u, o));
             }
             json.push(serde_json::json!({
                 "run": c.run, "setting": c.setting, "step": s.step, "rows": s.rows,
@@ -187,7 +190,10 @@ pub fn run(args: Args) -> Result<(), String> {
         let path = args.out.join(name);
         std::fs::write(&path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))
     };
-    write("probe.csv", &csv)?;
+    let header = [
+        "run", "setting", "step", "cards", "accuracy", "oracle", "rows",
+    ];
+    write("probe.csv", &crate::table::csv_text(&header, csv_rows))?;
     write(
         "probe.json",
         &serde_json::to_string_pretty(&json).expect("json values serialise"),
