@@ -3,6 +3,12 @@
 
 use burn::prelude::*;
 use burn::tensor::activation::log_softmax;
+use rand_chacha::rand_core::Rng;
+
+/// A uniform draw in [0, 1) with 53 random bits: what [`sample_row`] takes as `u`.
+pub fn unit_draw(rng: &mut impl Rng) -> f64 {
+    (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+}
 
 /// How far below the row's best legal logit an illegal action's logit is put: its
 /// probability is then below e⁻⁶⁰ (with ~760 actions, a total leak under 10⁻²³, far below

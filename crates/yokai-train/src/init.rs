@@ -8,7 +8,7 @@ use burn::nn::conv::{Conv2d, Conv2dConfig};
 use burn::nn::{Linear, LinearConfig};
 use burn::prelude::*;
 use burn::tensor::TensorData;
-use rand_chacha::rand_core::{Rng, SeedableRng};
+use rand_chacha::rand_core::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
 /// A generator of initial weights.
@@ -25,8 +25,8 @@ impl Init {
 
     fn normal(&mut self) -> f64 {
         // Box-Muller; u1 in (0, 1] so the log is finite.
-        let u1 = 1.0 - (self.rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
-        let u2 = (self.rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+        let u1 = 1.0 - crate::distribution::unit_draw(&mut self.rng);
+        let u2 = crate::distribution::unit_draw(&mut self.rng);
         (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
     }
 

@@ -9,7 +9,7 @@ use crate::run::{CHECKPOINT, POLICY};
 use crate::trainer::{default_device, load_model, read_header, FileHeader, TrainError};
 use burn::prelude::*;
 use burn::tensor::TensorData;
-use rand_chacha::rand_core::{Rng, SeedableRng};
+use rand_chacha::rand_core::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use std::path::{Path, PathBuf};
 use yokai_agents::Policy;
@@ -269,7 +269,7 @@ impl<E: Encoder, M: Recurrent> Policy for NetworkPolicy<E, M> {
         let logits = self.step(view);
         self.stepped = true;
         view.write_legal_mask(&mut self.mask);
-        let u = (self.rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+        let u = crate::distribution::unit_draw(&mut self.rng);
         let (a, _, _) = sample_row(&logits, &self.mask, u, false);
         view.config()
             .decode(a)

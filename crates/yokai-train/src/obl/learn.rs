@@ -22,7 +22,7 @@ use crate::TrainedPolicy;
 use burn::optim::{AdamConfig, GradientsParams, ModuleOptimizer};
 use burn::prelude::*;
 use burn::tensor::TensorData;
-use rand_chacha::rand_core::{Rng, SeedableRng};
+use rand_chacha::rand_core::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use yokai_agents::Policy;
 use yokai_engine::{derive_seed, Card, Config, Part, Seat};
@@ -384,7 +384,7 @@ fn choose_by_network(
         let g = env.game(i);
         let r = i * p + g.current_seat().index();
         g.write_legal_mask(g.current_seat(), &mut mask);
-        let u = (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+        let u = crate::distribution::unit_draw(&mut rng);
         *action = sample_row(&logits[r * na..][..na], &mask, u, false).0 as u32;
     }
 }

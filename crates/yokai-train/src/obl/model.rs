@@ -27,7 +27,6 @@ use burn::nn::Linear;
 use burn::prelude::*;
 use burn::tensor::activation::relu;
 use burn::tensor::TensorData;
-use rand_chacha::rand_core::Rng;
 use rand_chacha::ChaCha8Rng;
 use yokai_engine::{Colour, Config, Part};
 
@@ -225,7 +224,7 @@ impl BeliefModel {
                 }
                 let (q, a) = (&p[next * c..][..c], &avail[next * c..][..c]);
                 next += 1;
-                let u = (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+                let u = crate::distribution::unit_draw(rng);
                 let (mut acc, mut pick) = (0.0, None);
                 for colour in (0..c).filter(|&colour| a[colour] > 0.0) {
                     acc += q[colour] as f64;
@@ -248,7 +247,7 @@ impl BeliefModel {
 mod tests {
     use super::*;
     use crate::obl::first_hand;
-    use rand_chacha::rand_core::SeedableRng;
+    use rand_chacha::rand_core::{Rng, SeedableRng};
     use yokai_engine::{Game, Seat};
 
     /// Whatever its weights, the model's samples keep the colour counts and the seat's

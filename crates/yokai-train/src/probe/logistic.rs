@@ -146,14 +146,13 @@ impl LinearProbe {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use rand_chacha::rand_core::{Rng, SeedableRng};
+    use rand_chacha::rand_core::SeedableRng;
     use rand_chacha::ChaCha8Rng;
 
     /// Rows of `features` values: the class's one-hot through a random projection plus
     /// `noise`, or noise alone.
     fn data(rows: usize, features: usize, signal: bool, seed: u64) -> (Vec<f32>, Vec<u8>) {
-        let uniform =
-            |rng: &mut ChaCha8Rng| (rng.next_u64() >> 11) as f32 / (1u64 << 53) as f32 - 0.5;
+        let uniform = |rng: &mut ChaCha8Rng| crate::distribution::unit_draw(rng) as f32 - 0.5;
         // One projection for every call; the noise (and so the rows) differ by `seed`.
         let mut fixed = ChaCha8Rng::seed_from_u64(99);
         let projection: Vec<f32> = (0..3 * features).map(|_| uniform(&mut fixed)).collect();

@@ -17,7 +17,7 @@ pub use logistic::LinearProbe;
 
 use crate::distribution::sample_row;
 use crate::TrainedPolicy;
-use rand_chacha::rand_core::{Rng, SeedableRng};
+use rand_chacha::rand_core::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use yokai_engine::{derive_seed, Card, Config, Game, Seat};
 
@@ -106,7 +106,7 @@ pub fn record(
             for (k, &g) in open.iter().enumerate() {
                 let actor = live[g].current_seat();
                 live[g].write_legal_mask(actor, &mut mask);
-                let u = (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+                let u = crate::distribution::unit_draw(&mut rng);
                 let lg = &logits[actor.index()][k * na..][..na];
                 let (a, _, _) = sample_row(lg, &mask, u, false);
                 live[g]
@@ -242,7 +242,7 @@ mod tests {
     fn probes_read_a_linear_code_and_not_noise() {
         let game = Config::from_name("9c-2p").unwrap();
         let mut rng = ChaCha8Rng::seed_from_u64(7);
-        let mut noise = move || (rng.next_u64() >> 11) as f32 / (1u64 << 53) as f32;
+        let mut noise = move || crate::distribution::unit_draw(&mut rng) as f32;
         for signal in [true, false] {
             let mut r = Records {
                 hidden: 27,

@@ -7,7 +7,6 @@ use crate::distribution::sample_row;
 use crate::gae::gae;
 use crate::network::{Encoder, Recurrent};
 use burn::module::Module;
-use rand_chacha::rand_core::Rng;
 use rand_chacha::ChaCha8Rng;
 use yokai_engine::{Action, MetricsAccumulator};
 use yokai_vec::episode_seed;
@@ -146,7 +145,7 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
                 }
             }
             for r in 0..rows {
-                let u = (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+                let u = crate::distribution::unit_draw(rng);
                 let (a, lp, h) = sample_row(&logits[r * na..][..na], &m[r * na..][..na], u, false);
                 actions[t * rows + r] = a;
                 logps[t * rows + r] = lp;

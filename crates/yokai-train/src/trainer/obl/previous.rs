@@ -204,7 +204,7 @@ impl Partner<'_> {
                 let na = config.num_actions();
                 let mut mask = vec![0f32; na];
                 game.write_legal_mask(actor, &mut mask);
-                let u = (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
+                let u = crate::distribution::unit_draw(rng);
                 sample_row(&logits[k * na..][..na], &mask, u, false).0
             }
         }
