@@ -10,6 +10,14 @@ pub fn unit_draw(rng: &mut impl Rng) -> f64 {
     (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64
 }
 
+/// The action index the acting seat of `game` samples from its row of `logits`, over its
+/// legal actions only.
+pub fn sample_legal(game: &yokai_engine::Game, logits: &[f32], rng: &mut impl Rng) -> usize {
+    let mut mask = vec![0f32; logits.len()];
+    game.write_legal_mask(game.current_seat(), &mut mask);
+    sample_row(logits, &mask, unit_draw(rng), false).0
+}
+
 /// How far below the row's best legal logit an illegal action's logit is put: its
 /// probability is then below e⁻⁶⁰ (with ~760 actions, a total leak under 10⁻²³, far below
 /// f32 resolution), while `exp` stays in the normal range. Pushing illegal logits to

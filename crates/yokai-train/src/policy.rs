@@ -13,7 +13,7 @@ use rand_chacha::rand_core::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use std::path::{Path, PathBuf};
 use yokai_agents::Policy;
-use yokai_engine::{Action, Config, Seat, SeatView};
+use yokai_engine::{Action, Config, Game, Seat, SeatView};
 use yokai_vec::Encoding;
 
 #[derive(Clone, Debug)]
@@ -176,6 +176,25 @@ impl TrainedPolicy {
             crate::trainer::to_vec(out.logits),
             crate::trainer::to_vec(state),
         )
+    }
+
+    /// [`TrainedPolicy::step_batch`] for the seats `rows` (a game and a seat each), whose
+    /// observations it writes itself.
+    pub fn step_seats(
+        &self,
+        rows: &[(&Game, Seat)],
+        states: Vec<f32>,
+        keep: Vec<f32>,
+    ) -> (Vec<f32>, Vec<f32>) {
+        let encoding = self.encoding();
+        let l: usize = encoding.shape(&self.game).iter().product();
+        let mut obs = vec![0f32; rows.len() * l];
+        for (k, &(game, seat)) in rows.iter().enumerate() {
+            encoding
+                .write(game, seat, &mut obs[k * l..][..l])
+                .expect("buffers sized from the policy's own game config");
+        }
+        self.step_batch(obs, states, keep)
     }
 
     /// A fresh seat-holder; `seed` drives its action sampling.

@@ -73,13 +73,16 @@ pub fn continue_fictitiously(
     }
 }
 
-/// π₀, the level below level 1: a uniformly random legal action of the acting seat.
+/// π₀, the level below level 1: a uniformly random legal action index of the acting seat.
+pub fn random_legal(game: &Game, rng: &mut ChaCha8Rng) -> usize {
+    let legal = game.legal_actions(game.current_seat());
+    let pick = (rng.next_u64() % legal.len() as u64) as usize;
+    game.config().encode(legal[pick])
+}
+
+/// π₀ as a partner for [`continue_fictitiously`].
 pub fn uniform_random(rng: &mut ChaCha8Rng) -> impl FnMut(&Game) -> usize + '_ {
-    move |game: &Game| {
-        let legal = game.legal_actions(game.current_seat());
-        let pick = (rng.next_u64() % legal.len() as u64) as usize;
-        game.config().encode(legal[pick])
-    }
+    move |game: &Game| random_legal(game, rng)
 }
 
 #[cfg(test)]

@@ -16,7 +16,7 @@
 //! model's cross-entropy minus it estimates KL(exact ‖ model) per unseen card.
 
 use super::model::{available, neighbour_colours, BeliefModel};
-use crate::distribution::sample_row;
+use crate::distribution::sample_legal;
 use crate::trainer::{tensor2, to_vec};
 use crate::TrainedPolicy;
 use burn::optim::{AdamConfig, GradientsParams, ModuleOptimizer};
@@ -25,7 +25,7 @@ use burn::tensor::TensorData;
 use rand_chacha::rand_core::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use yokai_agents::Policy;
-use yokai_engine::{derive_seed, Card, Config, Part, Seat};
+use yokai_engine::{derive_seed, Card, Config, Game, Part, Seat};
 use yokai_vec::{Encoding, VecEnv, VecEnvOptions, VecError};
 
 /// Who plays the games the belief learns from.
@@ -364,28 +364,20 @@ fn choose_by_network(
 ) {
     let game = env.config();
     let (p, na) = (game.players(), game.num_actions());
-    let rows = actions.len() * p;
-    let encoding = net.encoding();
-    let l: usize = encoding.shape(game).iter().product();
-    let mut obs = vec![0f32; rows * l];
-    let mut keep = vec![0f32; rows];
-    for r in 0..rows {
-        let g = env.game(r / p);
-        encoding
-            .write(g, Seat((r % p) as u8), &mut obs[r * l..][..l])
-            .expect("buffers sized from the same config");
-        keep[r] = (g.steps() > 0) as u8 as f32;
-    }
-    let (logits, states) = net.step_batch(obs, hidden.to_vec(), keep);
+    let rows: Vec<(&Game, Seat)> = (0..actions.len() * p)
+        .map(|r| (env.game(r / p), Seat((r % p) as u8)))
+        .collect();
+    let keep = rows
+        .iter()
+        .map(|(g, _)| (g.steps() > 0) as u8 as f32)
+        .collect();
+    let (logits, states) = net.step_seats(&rows, hidden.to_vec(), keep);
     hidden.copy_from_slice(&states);
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let mut mask = vec![0f32; na];
     for (i, action) in actions.iter_mut().enumerate() {
         let g = env.game(i);
         let r = i * p + g.current_seat().index();
-        g.write_legal_mask(g.current_seat(), &mut mask);
-        let u = crate::distribution::unit_draw(&mut rng);
-        *action = sample_row(&logits[r * na..][..na], &mask, u, false).0 as u32;
+        *action = sample_legal(g, &logits[r * na..][..na], &mut rng) as u32;
     }
 }
 

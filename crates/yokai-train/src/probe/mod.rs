@@ -15,7 +15,7 @@ mod logistic;
 
 pub use logistic::LinearProbe;
 
-use crate::distribution::sample_row;
+use crate::distribution::sample_legal;
 use crate::TrainedPolicy;
 use rand_chacha::rand_core::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -63,7 +63,6 @@ pub fn record(
         ..Records::default()
     };
     let mut rng = ChaCha8Rng::seed_from_u64(derive_seed(seed, 0x9B0));
-    let mut mask = vec![0f32; na];
     for first in (0..games).step_by(64) {
         let batch = (games - first).min(64);
         let mut live: Vec<Game> = (0..batch)
@@ -77,18 +76,15 @@ pub fn record(
             let open: Vec<usize> = (0..batch).filter(|&g| !live[g].is_over()).collect();
             let mut logits = Vec::with_capacity(p);
             for (s, policy) in seats.iter().enumerate() {
-                let (encoding, h) = (policy.encoding(), policy.hidden_size());
-                let l: usize = encoding.shape(game).iter().product();
-                let mut obs = vec![0f32; open.len() * l];
-                let mut rows_h = Vec::with_capacity(open.len() * h);
-                for (k, &g) in open.iter().enumerate() {
-                    encoding
-                        .write(&live[g], Seat(s as u8), &mut obs[k * l..][..l])
-                        .expect("buffers sized from the same config");
-                    rows_h.extend_from_slice(&states[s][g * h..][..h]);
-                }
+                let h = policy.hidden_size();
+                let rows: Vec<(&Game, Seat)> =
+                    open.iter().map(|&g| (&live[g], Seat(s as u8))).collect();
+                let rows_h = open
+                    .iter()
+                    .flat_map(|&g| states[s][g * h..][..h].iter().copied())
+                    .collect();
                 let keep = vec![(step > 0) as u8 as f32; open.len()];
-                let (lg, new) = policy.step_batch(obs, rows_h, keep);
+                let (lg, new) = policy.step_seats(&rows, rows_h, keep);
                 for (k, &g) in open.iter().enumerate() {
                     states[s][g * h..][..h].copy_from_slice(&new[k * h..][..h]);
                     if recorded[s] {
@@ -105,10 +101,8 @@ pub fn record(
             }
             for (k, &g) in open.iter().enumerate() {
                 let actor = live[g].current_seat();
-                live[g].write_legal_mask(actor, &mut mask);
-                let u = crate::distribution::unit_draw(&mut rng);
                 let lg = &logits[actor.index()][k * na..][..na];
-                let (a, _, _) = sample_row(lg, &mask, u, false);
+                let a = sample_legal(&live[g], lg, &mut rng);
                 live[g]
                     .apply_index(a)
                     .expect("sampled among the legal actions");

@@ -16,13 +16,13 @@
 //! saved in checkpoints, so a resume continues it exactly.
 
 use crate::config::TrainConfig;
-use crate::distribution::sample_row;
+use crate::distribution::sample_legal;
+use crate::obl::continuation::random_legal;
 use crate::obl::learn::{BeliefStats, BeliefTrainConfig, BeliefTrainer, LevelBelow};
 use crate::obl::model::BeliefModel;
 use crate::trainer::TrainError;
 use crate::TrainedPolicy;
 use burn::prelude::*;
-use rand_chacha::rand_core::Rng;
 use rand_chacha::ChaCha8Rng;
 use yokai_engine::{derive_seed, Config, Game, Seat};
 use yokai_vec::Encoding;
@@ -173,39 +173,23 @@ impl Partner<'_> {
     /// for).
     pub fn act(&mut self, game: &Game) -> usize {
         match self {
-            Partner::Random(rng) => {
-                let legal = game.legal_actions(game.current_seat());
-                let pick = (rng.next_u64() % legal.len() as u64) as usize;
-                game.config().encode(legal[pick])
-            }
+            Partner::Random(rng) => random_legal(game, rng),
             Partner::Previous {
                 policy,
                 seats,
                 states,
                 rng,
             } => {
-                let encoding = policy.encoding();
-                let config = game.config();
-                let l: usize = encoding.shape(config).iter().product();
-                let mut obs = vec![0f32; seats.len() * l];
-                for (k, &seat) in seats.iter().enumerate() {
-                    encoding
-                        .write(game, seat, &mut obs[k * l..][..l])
-                        .expect("buffers sized from the same config");
-                }
+                let rows: Vec<(&Game, Seat)> = seats.iter().map(|&s| (game, s)).collect();
                 let keep = vec![1.0; seats.len()];
-                let (logits, new) = policy.step_batch(obs, std::mem::take(states), keep);
+                let (logits, new) = policy.step_seats(&rows, std::mem::take(states), keep);
                 *states = new;
-                let actor = game.current_seat();
                 let k = seats
                     .iter()
-                    .position(|&s| s == actor)
+                    .position(|&s| s == game.current_seat())
                     .expect("the continuation asks only for partners' actions");
-                let na = config.num_actions();
-                let mut mask = vec![0f32; na];
-                game.write_legal_mask(actor, &mut mask);
-                let u = crate::distribution::unit_draw(rng);
-                sample_row(&logits[k * na..][..na], &mask, u, false).0
+                let na = game.config().num_actions();
+                sample_legal(game, &logits[k * na..][..na], rng)
             }
         }
     }
