@@ -15,7 +15,7 @@
 //! seat's slots: the log of the number of consistent colourings), is the floor, and the
 //! model's cross-entropy minus it estimates KL(exact ‖ model) per unseen card.
 
-use super::model::{available, neighbour_colours, BeliefModel};
+use super::model::{BeliefModel, SlotInputs};
 use crate::distribution::sample_legal;
 use crate::trainer::{tensor2, to_vec};
 use crate::TrainedPolicy;
@@ -264,13 +264,11 @@ impl BeliefTrainer {
         let t_len = self.config.rollout_steps;
         let hsz = self.config.hidden;
         let l: usize = self.game.node_shape(Part::Full).iter().product();
-        let f = l / (y + self.game.hints());
+        let f = self.model.features();
         let bm = batch.len();
         let (mut obs, mut keep, mut h0) = (Vec::new(), Vec::new(), Vec::new());
-        // Per unseen slot: its state row, card features, available counts and true colour.
-        let (mut at, mut card, mut avail, mut target) =
-            (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-        let mut around = Vec::new();
+        // Per unseen slot: its state row, decoder inputs and true colour.
+        let (mut at, mut inputs, mut target) = (Vec::new(), SlotInputs::default(), Vec::new());
         let p = self.game.players();
         let mut uniform = 0f64;
         for (j, &r) in batch.iter().enumerate() {
@@ -287,14 +285,10 @@ impl BeliefTrainer {
                     if first[k].is_some() {
                         continue;
                     }
-                    let a = available(&self.game, &truth[..k], first, k);
+                    let a = inputs.push(&self.game, f, o, adjacency, &truth[..k], first, k);
                     let true_colour = truth[k] as usize;
                     uniform -= (a[true_colour] as f64 / a.iter().sum::<usize>() as f64).ln();
                     at.push((j * t_len + t) as i64);
-                    card.extend_from_slice(&o[k * f..][..f]);
-                    avail.extend(a.iter().map(|&x| x as f32));
-                    let nb = neighbour_colours(c, adjacency, &truth[..k], first, k);
-                    around.extend(nb.iter().map(|&x| x as f32));
                     let mut one_hot = vec![0f32; c];
                     one_hot[true_colour] = 1.0;
                     target.extend(one_hot);
@@ -324,15 +318,10 @@ impl BeliefTrainer {
             return BeliefStats::default();
         }
         let idx = Tensor::<1, Int>::from_data(TensorData::new(at, [n]), d);
-        let log_p = self.model.slot_log_probs(
-            states.select(0, idx),
-            tensor2(card, [n, f], d),
-            tensor2(around, [n, c], d),
-            tensor2(avail.clone(), [n, c], d),
-        );
+        let log_p = self.model.log_probs(states.select(0, idx), &inputs);
         let model_log_p = to_vec(log_p.clone().detach());
         let mut kl = 0f64;
-        for (s, a) in avail.chunks(c).enumerate() {
+        for (s, a) in inputs.avail.chunks(c).enumerate() {
             let sum: f32 = a.iter().sum();
             for (colour, &count) in a.iter().enumerate().filter(|(_, &x)| x > 0.0) {
                 let p = (count / sum) as f64;

@@ -19,7 +19,7 @@
 //! from its inputs, and `obl::learn` measures how close it gets (KL in nats).
 
 use crate::config::{NetworkPreset, TrainConfig};
-use crate::distribution::masked_log_softmax;
+use crate::distribution::{masked_log_softmax, sample_row, unit_draw};
 use crate::init::Init;
 use crate::network::{Encoder, GruCell, MlpEncoder, Recurrent};
 use burn::module::Module;
@@ -57,7 +57,7 @@ pub struct BeliefModel {
 
 /// How many of card `k`'s 4-neighbours (`adjacency` `[Y, Y]`, 1 for neighbours) have each
 /// colour as far as slot `k` knows: drawn before it (`before`) or seen first-hand.
-pub fn neighbour_colours(
+fn neighbour_colours(
     colours: usize,
     adjacency: &[f32],
     before: &[u8],
@@ -79,9 +79,44 @@ pub fn neighbour_colours(
     counts
 }
 
+/// The decoder's inputs for a batch of (seat, card slot) pairs, gathered on the CPU: the
+/// card's node features, its neighbours' known colours and the colours available to it.
+#[derive(Clone, Debug, Default)]
+pub struct SlotInputs {
+    card: Vec<f32>,
+    around: Vec<f32>,
+    /// Per pair, per colour: the available count (also the sampling mask: > 0).
+    pub avail: Vec<f32>,
+}
+
+impl SlotInputs {
+    /// Add card `k`'s slot of one seat: its graph observation `obs` (cards first, `features`
+    /// values per node), the card adjacency `[Y, Y]`, the colours of the slots before `k`
+    /// and the seat's first-hand colours. Returns the counts available to the slot.
+    #[allow(clippy::too_many_arguments)]
+    pub fn push(
+        &mut self,
+        game: &Config,
+        features: usize,
+        obs: &[f32],
+        adjacency: &[f32],
+        before: &[u8],
+        first_hand: &FirstHand,
+        k: usize,
+    ) -> Vec<usize> {
+        self.card
+            .extend_from_slice(&obs[k * features..][..features]);
+        let around = neighbour_colours(game.colours(), adjacency, before, first_hand, k);
+        self.around.extend(around.iter().map(|&x| x as f32));
+        let avail = available(game, before, first_hand, k);
+        self.avail.extend(avail.iter().map(|&x| x as f32));
+        avail
+    }
+}
+
 /// The colours still available to slot `k` (see the module docs), given the colours of the
 /// slots before it and the first-hand colours of those after it.
-pub fn available(config: &Config, before: &[u8], first_hand: &FirstHand, k: usize) -> Vec<usize> {
+fn available(config: &Config, before: &[u8], first_hand: &FirstHand, k: usize) -> Vec<usize> {
     let mut left = vec![config.cards_per_colour(); config.colours()];
     for &c in before {
         left[c as usize] -= 1;
@@ -149,10 +184,32 @@ impl BeliefModel {
         all.reshape([b * t, self.hidden_size()])
     }
 
+    /// Width of a node's features in the graph observation.
+    pub fn features(&self) -> usize {
+        self.shape[2]
+    }
+
+    /// Log-probabilities `[R, C]` of the colours of `R` (seat, slot) pairs: their states
+    /// `[R, H]` and their [`SlotInputs`].
+    pub fn log_probs(&self, states: Tensor<2>, inputs: &SlotInputs) -> Tensor<2> {
+        let [_, c, f, _] = self.shape;
+        let rows = inputs.avail.len() / c;
+        let device = states.device();
+        let t = |v: &[f32], w: usize| {
+            Tensor::from_data(TensorData::new(v.to_vec(), [rows, w]), &device)
+        };
+        self.slot_log_probs(
+            states,
+            t(&inputs.card, f),
+            t(&inputs.around, c),
+            t(&inputs.avail, c),
+        )
+    }
+
     /// Log-probabilities `[R, C]` of one slot's colour for `R` (row, slot) pairs: their
     /// states `[R, H]`, the slot's card features `[R, F]`, its neighbours' known colours
     /// `[R, C]` and available counts `[R, C]`.
-    pub fn slot_log_probs(
+    fn slot_log_probs(
         &self,
         states: Tensor<2>,
         card: Tensor<2>,
@@ -190,31 +247,25 @@ impl BeliefModel {
             let open: Vec<usize> = (0..n)
                 .filter(|&i| first_hand[i * y + k].is_none())
                 .collect();
-            let (mut card, mut around, mut avail) = (Vec::new(), Vec::new(), Vec::new());
+            let mut inputs = SlotInputs::default();
             for &i in &open {
-                let first = &first_hand[i * y..][..y];
-                card.extend_from_slice(&obs[i * l + k * f..][..f]);
-                let adj = &adjacency[i * y * y..][..y * y];
-                let nb = neighbour_colours(c, adj, &drawn[i], first, k);
-                around.extend(nb.iter().map(|&a| a as f32));
-                let a = available(game, &drawn[i], first, k);
-                avail.extend(a.iter().map(|&a| a as f32));
+                let (obs, adjacency) = (&obs[i * l..][..l], &adjacency[i * y * y..][..y * y]);
+                inputs.push(
+                    game,
+                    f,
+                    obs,
+                    adjacency,
+                    &drawn[i],
+                    &first_hand[i * y..][..y],
+                    k,
+                );
             }
-            let p = if open.is_empty() {
+            let log_p = if open.is_empty() {
                 Vec::new()
             } else {
-                let m = open.len();
                 let idx: Vec<i64> = open.iter().map(|&i| i as i64).collect();
-                let rows = Tensor::<1, Int>::from_data(TensorData::new(idx, [m]), &device);
-                let t =
-                    |v: Vec<f32>, w: usize| Tensor::from_data(TensorData::new(v, [m, w]), &device);
-                let log_p = self.slot_log_probs(
-                    states.clone().select(0, rows),
-                    t(card, f),
-                    t(around, c),
-                    t(avail.clone(), c),
-                );
-                crate::trainer::to_vec(log_p.exp())
+                let rows = Tensor::<1, Int>::from_data(TensorData::new(idx, [open.len()]), &device);
+                crate::trainer::to_vec(self.log_probs(states.clone().select(0, rows), &inputs))
             };
             let mut next = 0;
             for (i, colours) in drawn.iter_mut().enumerate() {
@@ -222,18 +273,11 @@ impl BeliefModel {
                     colours.push(colour);
                     continue;
                 }
-                let (q, a) = (&p[next * c..][..c], &avail[next * c..][..c]);
+                // The available counts mask the colours none of which is left.
+                let (lp, avail) = (&log_p[next * c..][..c], &inputs.avail[next * c..][..c]);
                 next += 1;
-                let u = crate::distribution::unit_draw(rng);
-                let (mut acc, mut pick) = (0.0, None);
-                for colour in (0..c).filter(|&colour| a[colour] > 0.0) {
-                    acc += q[colour] as f64;
-                    pick = Some(colour);
-                    if u < acc {
-                        break;
-                    }
-                }
-                colours.push(pick.expect("a slot always has an available colour") as u8);
+                let (colour, _, _) = sample_row(lp, avail, unit_draw(rng), false);
+                colours.push(colour as u8);
             }
         }
         drawn
