@@ -21,6 +21,15 @@ pub fn first_hand(game: &Game, seat: Seat) -> Vec<(Card, Colour)> {
         .collect()
 }
 
+/// What `seat` has seen of each card id: `Some(colour)` where it observed the card (the
+/// form the belief model reads).
+pub fn first_hand_slots(game: &Game, seat: Seat) -> Vec<Option<u8>> {
+    let seen = game.ever_observed(seat);
+    (0..game.config().cards())
+        .map(|k| (seen >> k & 1 == 1).then(|| game.colour_of(Card(k as u8)).0))
+        .collect()
+}
+
 /// One colouring (a colour per card id) drawn uniformly from those consistent with what
 /// `seat` has seen first-hand in `game` and with the colour counts.
 pub fn sample_first_hand_consistent(game: &Game, seat: Seat, rng: &mut ChaCha8Rng) -> Vec<Colour> {
@@ -66,8 +75,12 @@ mod tests {
                 for s in 0..config.players() {
                     let seat = Seat(s as u8);
                     let sample = sample_first_hand_consistent(&game, seat, &mut rng);
-                    for (card, colour) in first_hand(&game, seat) {
+                    let seen = first_hand(&game, seat);
+                    let slots = first_hand_slots(&game, seat);
+                    assert_eq!(slots.iter().flatten().count(), seen.len());
+                    for &(card, colour) in &seen {
                         assert_eq!(sample[card.index()], colour, "case {case}, seat {s}");
+                        assert_eq!(slots[card.index()], Some(colour.0));
                     }
                     let mut counts = vec![0; config.colours()];
                     for colour in &sample {

@@ -10,11 +10,13 @@
 //! The loss is the cross-entropy of the true colour of every card the seat has not seen,
 //! slot by slot with the true colours of the earlier slots (teacher forcing).
 //!
-//! Under level 0 the true colouring is a draw from the exact belief, so the exact belief's
-//! cross-entropy on the same slots, −log(available_c / Σ available) per slot (summed over a
-//! seat's slots: the log of the number of consistent colourings), is the floor, and the
-//! model's cross-entropy minus it estimates KL(exact ‖ model) per unseen card.
+//! Each update also measures, on the same slots, the exact belief of uncommitted play
+//! (level 0): its cross-entropy, −log(available_c / Σ available) per slot (summed over a
+//! seat's slots: the log of the number of consistent colourings), is the baseline a belief
+//! of a later level must beat, and the exact KL of each slot's conditional to the model's
+//! says how close the model comes to it on level-0 data.
 
+use super::belief::first_hand_slots;
 use super::model::{BeliefModel, SlotInputs};
 use crate::distribution::sample_legal;
 use crate::trainer::{tensor2, to_vec};
@@ -67,7 +69,8 @@ impl BeliefTrainConfig {
     }
 }
 
-/// One update's figures, in nats per unseen card.
+/// One update's figures (or several updates', [`BeliefStats::mean`]), in nats per unseen
+/// card.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct BeliefStats {
     /// The model's cross-entropy of the true colours.
@@ -84,7 +87,26 @@ pub struct BeliefStats {
     pub slots: usize,
 }
 
-/// A belief model learning from uniformly random play (level 0).
+impl BeliefStats {
+    /// The figures of several batches or updates together: means weighted by their slots.
+    pub fn mean(parts: impl IntoIterator<Item = BeliefStats>) -> BeliefStats {
+        let mut total = BeliefStats::default();
+        for s in parts {
+            let w = s.slots as f64;
+            total.cross_entropy += s.cross_entropy * w;
+            total.uniform_cross_entropy += s.uniform_cross_entropy * w;
+            total.uniform_kl += s.uniform_kl * w;
+            total.slots += s.slots;
+        }
+        let n = total.slots.max(1) as f64;
+        total.cross_entropy /= n;
+        total.uniform_cross_entropy /= n;
+        total.uniform_kl /= n;
+        total
+    }
+}
+
+/// A belief model learning from the games of the level below ([`LevelBelow`]).
 pub struct BeliefTrainer {
     config: BeliefTrainConfig,
     game: Config,
@@ -180,12 +202,10 @@ impl BeliefTrainer {
             for r in 0..rows {
                 let game = self.env.game(r / p);
                 ro.keeps.push((game.steps() > 0) as u8 as f32);
-                let seen = game.ever_observed(Seat((r % p) as u8));
-                for k in 0..y {
-                    let colour = game.colour_of(Card(k as u8)).0;
-                    ro.truth.push(colour);
-                    ro.first_hand.push((seen >> k & 1 == 1).then_some(colour));
-                }
+                ro.truth
+                    .extend((0..y).map(|k| game.colour_of(Card(k as u8)).0));
+                ro.first_hand
+                    .extend(first_hand_slots(game, Seat((r % p) as u8)));
             }
             let step = self.updates * t_len as u64 + t as u64;
             self.choose(step, &mut actions);
@@ -239,24 +259,14 @@ impl BeliefTrainer {
         let ro = self.collect();
         let progress = (self.updates as f64 / self.config.updates.max(1) as f64).min(1.0);
         let lr = self.config.lr * (1.0 - progress);
-        let rows = self.rows();
-        let mb = rows.div_ceil(self.config.minibatches);
-        let order: Vec<usize> = (0..rows).collect();
-        let mut total = BeliefStats::default();
-        for batch in order.chunks(mb) {
-            let s = self.learn(batch, &ro, lr);
-            let w = s.slots as f64;
-            total.cross_entropy += s.cross_entropy * w;
-            total.uniform_cross_entropy += s.uniform_cross_entropy * w;
-            total.uniform_kl += s.uniform_kl * w;
-            total.slots += s.slots;
-        }
+        let rows: Vec<usize> = (0..self.rows()).collect();
+        let mb = rows.len().div_ceil(self.config.minibatches);
+        let parts: Vec<BeliefStats> = rows
+            .chunks(mb)
+            .map(|batch| self.learn(batch, &ro, lr))
+            .collect();
         self.updates += 1;
-        let n = total.slots.max(1) as f64;
-        total.cross_entropy /= n;
-        total.uniform_cross_entropy /= n;
-        total.uniform_kl /= n;
-        total
+        BeliefStats::mean(parts)
     }
 
     fn learn(&mut self, batch: &[usize], ro: &Rollout, lr: f64) -> BeliefStats {

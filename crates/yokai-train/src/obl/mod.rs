@@ -24,5 +24,5 @@ pub mod continuation;
 pub mod learn;
 pub mod model;
 
-pub use belief::{first_hand, sample_first_hand_consistent};
+pub use belief::{first_hand, first_hand_slots, sample_first_hand_consistent};
 pub use continuation::{continue_fictitiously, Continuation};

@@ -290,7 +290,7 @@ impl BeliefModel {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::obl::first_hand;
+    use crate::obl::first_hand_slots;
     use rand_chacha::rand_core::{Rng, SeedableRng};
     use yokai_engine::{Game, Seat};
 
@@ -319,11 +319,7 @@ mod tests {
                         .unwrap();
                 }
                 let seat = Seat((case % config.players() as u64) as u8);
-                let mut known = vec![None; y];
-                for (card, colour) in first_hand(&game, seat) {
-                    known[card.index()] = Some(colour.0);
-                }
-                first.extend(known);
+                first.extend(first_hand_slots(&game, seat));
                 let at = obs.len();
                 obs.resize(at + l, 0f32);
                 game.write_nodes(seat, Part::Full, &mut obs[at..]).unwrap();

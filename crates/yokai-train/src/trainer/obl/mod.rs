@@ -24,7 +24,9 @@ pub(crate) use previous::PreviousLevel;
 
 use super::{tensor2, to_vec, TrainError, Trainer};
 use crate::network::{ActorCritic, Encoder, Recurrent};
-use crate::obl::{continue_fictitiously, first_hand, sample_first_hand_consistent, Continuation};
+use crate::obl::{
+    continue_fictitiously, first_hand_slots, sample_first_hand_consistent, Continuation,
+};
 use previous::{replay_memory, Partner};
 use rand_chacha::rand_core::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -209,7 +211,7 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         let graph = Encoding::Graph(Part::Full);
         let l: usize = graph.shape(&game).iter().product();
         let (mut obs, mut adjacency) = (vec![0f32; n * l], vec![0f32; n * y * y]);
-        let mut first = vec![None; n * y];
+        let mut first = Vec::with_capacity(n * y);
         let mut states = Vec::with_capacity(n * hb);
         for i in 0..n {
             let real = self.env.game(i);
@@ -221,9 +223,7 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
                 .expect("buffers sized from the same config");
             real.write_adjacency(&mut adjacency[i * y * y..][..y * y])
                 .expect("buffers sized from the same config");
-            for (card, colour) in first_hand(real, seat) {
-                first[i * y + card.index()] = Some(colour.0);
-            }
+            first.extend(first_hand_slots(real, seat));
         }
         let states = tensor2(states, [n, hb], &dev);
         Ok(previous

@@ -74,21 +74,8 @@ impl PreviousLevel {
         // 16 games is too few to compare a belief with its baseline).
         let updates = config.obl.belief_updates;
         let tail = updates.min(REPORTED_UPDATES);
-        let mut belief_stats = BeliefStats::default();
-        for u in 0..updates {
-            let s = trainer.update();
-            if u + tail >= updates {
-                let w = s.slots as f64;
-                belief_stats.cross_entropy += s.cross_entropy * w;
-                belief_stats.uniform_cross_entropy += s.uniform_cross_entropy * w;
-                belief_stats.uniform_kl += s.uniform_kl * w;
-                belief_stats.slots += s.slots;
-            }
-        }
-        let n = belief_stats.slots.max(1) as f64;
-        belief_stats.cross_entropy /= n;
-        belief_stats.uniform_cross_entropy /= n;
-        belief_stats.uniform_kl /= n;
+        let stats: Vec<BeliefStats> = (0..updates).map(|_| trainer.update()).collect();
+        let belief_stats = BeliefStats::mean(stats[(updates - tail) as usize..].iter().copied());
         Ok(PreviousLevel {
             policy,
             belief: trainer.into_model(),
