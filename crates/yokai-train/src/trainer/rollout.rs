@@ -98,12 +98,11 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         };
         // Off-Belief Learning: the acting rows' value targets from fictitious continuations.
         let obl = self.config.obl.level > 0;
-        let mut obl_targets = if obl {
-            vec![0f32; t_len * rows]
+        let mut obl_targets: Vec<Option<f32>> = if obl {
+            vec![None; t_len * rows]
         } else {
             Vec::new()
         };
-        let mut value_weight = obl_targets.clone();
         let h0 = self.state.hidden.clone();
         let net = self.model.valid();
         let dev = self.infer_device.clone();
@@ -158,8 +157,7 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             }
             if obl {
                 for (r, target) in self.obl_targets(&net, t, &joint, shaping as f32)? {
-                    obl_targets[t * rows + r] = target;
-                    value_weight[t * rows + r] = 1.0;
+                    obl_targets[t * rows + r] = Some(target);
                 }
             }
             self.env.step_joint(&joint)?;
@@ -200,41 +198,38 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
                 }
             }
         }
-        // Values of the observations after the last step bootstrap the returns; the state
-        // reached here is not kept, since the next rollout starts from these observations.
-        let mut last_obs = vec![0f32; rows * l];
-        let mut last_masks = vec![0f32; rows * na];
-        self.view(&mut last_obs, &mut last_masks);
-        let (last, _) = net.step(
-            tensor2(last_obs, [rows, l], &dev),
-            tensor2(self.state.hidden.clone(), [rows, hsz], &dev),
-            tensor2(self.keeps(), [rows, 1], &dev),
-        );
-        let last_values = to_vec(last.values);
-        let (adv, returns) = if obl {
+        let (adv, returns, value_weight) = if obl {
             // The OBL target is the return of the acting rows; the others learn nothing.
-            let adv = (0..t_len * rows)
-                .map(|i| value_weight[i] * (obl_targets[i] - values[i]))
+            let target = |i: usize| obl_targets[i].unwrap_or(values[i]);
+            let adv = (0..t_len * rows).map(|i| target(i) - values[i]).collect();
+            let returns = (0..t_len * rows).map(target).collect();
+            let weight = obl_targets
+                .iter()
+                .map(|x| x.is_some() as u8 as f32)
                 .collect();
-            let returns = (0..t_len * rows)
-                .map(|i| {
-                    if value_weight[i] > 0.0 {
-                        obl_targets[i]
-                    } else {
-                        values[i]
-                    }
-                })
-                .collect();
-            (adv, returns)
+            (adv, returns, weight)
         } else {
-            gae(
+            // Values of the observations after the last step bootstrap the returns; the
+            // state reached here is not kept, since the next rollout starts from these
+            // observations.
+            let mut last_obs = vec![0f32; rows * l];
+            let mut last_masks = vec![0f32; rows * na];
+            self.view(&mut last_obs, &mut last_masks);
+            let (last, _) = net.step(
+                tensor2(last_obs, [rows, l], &dev),
+                tensor2(self.state.hidden.clone(), [rows, hsz], &dev),
+                tensor2(self.keeps(), [rows, 1], &dev),
+            );
+            let last_values = to_vec(last.values);
+            let (adv, returns) = gae(
                 &rewards,
                 &values,
                 &dones,
                 &last_values,
                 c.gamma,
                 c.gae_lambda,
-            )
+            );
+            (adv, returns, Vec::new())
         };
 
         Ok(Rollout {

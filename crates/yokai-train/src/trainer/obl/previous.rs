@@ -25,7 +25,6 @@ use crate::TrainedPolicy;
 use burn::prelude::*;
 use rand_chacha::ChaCha8Rng;
 use yokai_engine::{derive_seed, Config, Game, Seat};
-use yokai_vec::Encoding;
 
 /// Updates at the end of the belief's training whose figures are averaged for the report.
 const REPORTED_UPDATES: u64 = 20;
@@ -82,63 +81,6 @@ impl PreviousLevel {
             belief_stats,
         })
     }
-}
-
-/// Replay each game's episode so far (`histories`, action indices) from its first state in
-/// `starts`, stepping a recurrent memory on the observations (in `encoding`) of the seats
-/// `seats[g]` at every state, the current one included; all games advance together, one
-/// batched `step(obs, states, keep)` per state. Returns each game's current state and its
-/// seats' memories (`seats[g].len() × hidden`).
-pub(super) fn replay_memory(
-    starts: Vec<Game>,
-    histories: &[&[u32]],
-    seats: &[Vec<Seat>],
-    encoding: Encoding,
-    hidden: usize,
-    step: &mut dyn FnMut(Vec<f32>, Vec<f32>, Vec<f32>) -> Vec<f32>,
-) -> (Vec<Game>, Vec<Vec<f32>>) {
-    let mut games = starts;
-    let mut states: Vec<Vec<f32>> = seats.iter().map(|s| vec![0.0; s.len() * hidden]).collect();
-    let Some(config) = games.first().map(|g| *g.config()) else {
-        return (games, states);
-    };
-    let l: usize = encoding.shape(&config).iter().product();
-    let longest = histories.iter().map(|h| h.len()).max().unwrap_or(0);
-    for tau in 0..=longest {
-        let live: Vec<usize> = (0..games.len())
-            .filter(|&g| histories[g].len() >= tau && !seats[g].is_empty())
-            .collect();
-        let rows: usize = live.iter().map(|&g| seats[g].len()).sum();
-        if rows > 0 {
-            let mut obs = vec![0f32; rows * l];
-            let mut h = Vec::with_capacity(rows * hidden);
-            let mut r = 0;
-            for &g in &live {
-                for &seat in &seats[g] {
-                    encoding
-                        .write(&games[g], seat, &mut obs[r * l..][..l])
-                        .expect("buffers sized from the same config");
-                    r += 1;
-                }
-                h.extend_from_slice(&states[g]);
-            }
-            let keep = vec![(tau > 0) as u8 as f32; rows];
-            let new = step(obs, h, keep);
-            let mut at = 0;
-            for &g in &live {
-                let n = states[g].len();
-                states[g].copy_from_slice(&new[at..at + n]);
-                at += n;
-            }
-        }
-        for (g, game) in games.iter_mut().enumerate() {
-            if let Some(&action) = histories[g].get(tau) {
-                game.apply_index(action as usize)
-                    .expect("a recorded action is legal in any colouring");
-            }
-        }
-    }
-    (games, states)
 }
 
 /// Who plays the partners' turns in a fictitious continuation.
