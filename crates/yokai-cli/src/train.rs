@@ -6,7 +6,8 @@ use std::collections::VecDeque;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use yokai_agents::PolicySpec;
-use yokai_train::{run::checkpoint_config, train_run, RunRequest, TrainConfig, TrainedPolicy};
+use yokai_train::run::{checkpoint_config, seed_path};
+use yokai_train::{train_run, RunRequest, TrainConfig, TrainedPolicy};
 
 /// `(name, contents)` of each named file in `configs/`, built into the binary.
 macro_rules! presets {
@@ -128,6 +129,9 @@ pub fn run(args: Args) -> Result<(), String> {
     let (mut config, name) = load_config(&args.config)?;
     if let Some(steps) = args.steps {
         config.ppo.total_steps = steps;
+    }
+    if let Some(from) = &args.init_from {
+        config.run.init_from = Some(from.clone());
     }
     config.validate("config").map_err(|e| e.to_string())?;
     let out = args
@@ -297,18 +301,10 @@ impl SeedJob<'_> {
             }
             c
         } else {
+            // Seed N starts from `seed-N` where `run.init_from` (from --init-from, the
+            // config, or --levels: the level below) is a directory of runs.
             let mut c = self.config.clone();
-            // --init-from, else the config's own (set by --levels): seed N starts from
-            // `seed-N` where the path is a directory of runs.
-            let from = if c.obl.level >= 2 && args.levels.is_some() {
-                c.run.init_from.clone()
-            } else {
-                args.init_from.clone().or(c.run.init_from.clone())
-            };
-            if let Some(from) = from {
-                let per_seed = from.join(format!("seed-{seed}"));
-                c.run.init_from = Some(if per_seed.is_dir() { per_seed } else { from });
-            }
+            c.run.init_from = c.run.init_from.map(|from| seed_path(&from, seed));
             c
         };
         run_config.run.threads = self.threads;

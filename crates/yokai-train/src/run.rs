@@ -72,6 +72,17 @@ pub fn train_run(
     }
 }
 
+/// Seed `seed`'s run in `path` when `path` is a directory of `seed-N` runs, else `path`
+/// itself: how `--init-from` and `obl.previous` name one run per seed.
+pub fn seed_path(path: &Path, seed: u64) -> PathBuf {
+    let per_seed = path.join(format!("seed-{seed}"));
+    if per_seed.is_dir() {
+        per_seed
+    } else {
+        path.to_path_buf()
+    }
+}
+
 /// The training config a run's checkpoint was written with, read from its header.
 pub fn checkpoint_config(dir: &Path) -> Result<TrainConfig, TrainError> {
     let path = dir.join(CHECKPOINT);

@@ -52,13 +52,7 @@ impl PreviousLevel {
             .previous
             .as_ref()
             .expect("validated: levels ≥ 2 name their previous level");
-        let per_seed = given.join(format!("seed-{seed}"));
-        let path = if per_seed.is_dir() {
-            per_seed
-        } else {
-            given.clone()
-        };
-        let policy = TrainedPolicy::load(&path)?;
+        let policy = TrainedPolicy::load(&crate::run::seed_path(given, seed))?;
         policy.check_game(game)?;
         let belief_config =
             BeliefTrainConfig::small(config.obl.belief_hidden, config.obl.belief_updates);
