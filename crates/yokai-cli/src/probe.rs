@@ -93,11 +93,7 @@ pub fn run(args: Args) -> Result<(), String> {
                 args.games,
                 args.seed + 2,
             );
-            with.states.extend(other.states);
-            with.colours.extend(other.colours);
-            with.seen.extend(other.seen);
-            with.steps.extend(other.steps);
-            with.episodes.extend(other.episodes);
+            with.append(other);
             curves.push(Curve {
                 run: name.clone(),
                 setting: format!("with {}", partner_path.display()),

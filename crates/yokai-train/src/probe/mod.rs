@@ -43,6 +43,15 @@ impl Records {
     pub fn is_empty(&self) -> bool {
         self.steps.is_empty()
     }
+    /// Add `other`'s rows after these (both recorded with the same memory width).
+    pub fn append(&mut self, other: Records) {
+        assert_eq!(self.hidden, other.hidden, "records of one memory width");
+        self.states.extend(other.states);
+        self.colours.extend(other.colours);
+        self.seen.extend(other.seen);
+        self.steps.extend(other.steps);
+        self.episodes.extend(other.episodes);
+    }
 }
 
 /// Play `games` games of `game` with `seats[s]` in seat s (batches of up to 64 games, actions
@@ -57,7 +66,18 @@ pub fn record(
 ) -> Records {
     let (p, y, na) = (game.players(), game.cards(), game.num_actions());
     assert_eq!(seats.len(), p, "one policy per seat");
-    let hidden = seats[0].hidden_size();
+    // The recorded seats' memory width (the partners' may differ).
+    let widths: Vec<usize> = seats
+        .iter()
+        .zip(recorded)
+        .filter(|(_, &r)| r)
+        .map(|(policy, _)| policy.hidden_size())
+        .collect();
+    assert!(
+        widths.windows(2).all(|w| w[0] == w[1]),
+        "the recorded seats share one memory width"
+    );
+    let hidden = widths.first().copied().unwrap_or(0);
     let mut out = Records {
         hidden,
         ..Records::default()
@@ -213,6 +233,34 @@ pub fn evaluate(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Cross-play records the probed seat's memory at its own width, whatever its partner's:
+    /// a partner with a narrower memory in seat 0, the probed network in seat 1.
+    #[test]
+    fn records_hold_the_recorded_seats_memories() {
+        use crate::{MlpEncoder, TrainConfig, Trainer};
+        let tmp = tempfile::tempdir().unwrap();
+        let policy = |hidden: usize| {
+            let mut c = TrainConfig::from_toml_str(
+                "[network]\npreset = \"compact\"\n[ppo]\nnum_envs = 4\nrollout_steps = 4\n\
+                 minibatches = 1\n[run]\nthreads = 1\n",
+                "test",
+            )
+            .unwrap();
+            c.network.hidden = hidden;
+            let t = Trainer::<MlpEncoder>::new(c, 1).unwrap();
+            let path = tmp.path().join(format!("h{hidden}.ykp"));
+            t.policy().write_atomic(&path).unwrap();
+            TrainedPolicy::load(&path).unwrap()
+        };
+        let (narrow, wide) = (policy(8), policy(16));
+        let game = *wide.game();
+        let r = record(&game, &[&narrow, &wide], &[false, true], 3, 0);
+        assert_eq!(r.hidden, 16);
+        assert!(!r.is_empty());
+        assert_eq!(r.states.len(), r.len() * 16);
+        assert_eq!(r.colours.len(), r.len() * game.cards());
+    }
 
     /// The oracle knows seen cards and otherwise names the colour with most cards left.
     #[test]
