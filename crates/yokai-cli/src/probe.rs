@@ -48,26 +48,27 @@ pub fn run(args: Args) -> Result<(), String> {
         ));
     }
     let load = |path: &PathBuf| TrainedPolicy::load(path).map_err(|e| e.to_string());
+    let runs: Vec<TrainedPolicy> = args.runs.iter().map(load).collect::<Result<_, _>>()?;
     let partners: Vec<TrainedPolicy> = args.partners.iter().map(load).collect::<Result<_, _>>()?;
+    // One game for every run and partner: one chance level, one plot.
+    let game = *runs[0].game();
+    if game.players() != 2 {
+        return Err(format!(
+            "{}: probes are built for 2-player games (its game has {} players)",
+            args.runs[0].display(),
+            game.players()
+        ));
+    }
+    for policy in runs.iter().chain(&partners) {
+        policy.check_game(&game).map_err(|e| e.to_string())?;
+    }
     let mut curves = Vec::new();
-    for path in &args.runs {
-        let policy = load(path)?;
-        let game = *policy.game();
-        if game.players() != 2 {
-            return Err(format!(
-                "{}: probes are built for 2-player games (its game has {} players)",
-                path.display(),
-                game.players()
-            ));
-        }
-        for partner in &partners {
-            partner.check_game(&game).map_err(|e| e.to_string())?;
-        }
+    for (policy, path) in runs.iter().zip(&args.runs) {
         let name = path.display().to_string();
         eprintln!("probing {name}: {} self-play games", args.games);
         let own = record(
             &game,
-            &[&policy, &policy],
+            &[policy, policy],
             &[true, true],
             args.games,
             args.seed,
@@ -81,14 +82,14 @@ pub fn run(args: Args) -> Result<(), String> {
         for (partner, partner_path) in partners.iter().zip(&args.partners) {
             let mut with = record(
                 &game,
-                &[&policy, partner],
+                &[policy, partner],
                 &[true, false],
                 args.games,
                 args.seed + 1,
             );
             let other = record(
                 &game,
-                &[partner, &policy],
+                &[partner, policy],
                 &[false, true],
                 args.games,
                 args.seed + 2,
@@ -103,7 +104,7 @@ pub fn run(args: Args) -> Result<(), String> {
     }
     std::fs::create_dir_all(&args.out)
         .map_err(|e| format!("cannot create {}: {e}", args.out.display()))?;
-    let chance = 1.0 / 3.0;
+    let chance = 1.0 / game.colours() as f64;
     let mut csv_rows = Vec::new();
     let mut json = Vec::new();
     let mut series = Vec::new();

@@ -493,4 +493,41 @@ fn probe_trained_runs() {
     assert!(e.contains("nothing"), "{e}");
     let e = yokai_err(&["probe", a.to_str().unwrap(), "--games", "10"]);
     assert!(e.contains("--games 10 is too few"), "{e}");
+    assert!(text(&o).contains("chance 33.3 %"), "{}", text(&o));
+    // A 4-colour game: chance is a quarter; it cannot be probed beside a 9c run.
+    let sixteen = dir.join("sixteen.toml");
+    let toml = std::fs::read_to_string(&config).unwrap();
+    std::fs::write(&sixteen, toml.replace("9c-2p-perfect", "16c-2p-perfect")).unwrap();
+    let runs16 = dir.join("runs16");
+    let o = yokai(&[
+        "train",
+        sixteen.to_str().unwrap(),
+        "--seeds",
+        "0",
+        "--eval-games",
+        "0",
+        "--threads",
+        "1",
+        "--out",
+        runs16.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let c = runs16.join("seed-0");
+    let o = yokai(&[
+        "probe",
+        c.to_str().unwrap(),
+        "--games",
+        "50",
+        "--out",
+        dir.join("probe16").to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(text(&o).contains("chance 25.0 %"), "{}", text(&o));
+    let e = yokai_err(&[
+        "probe",
+        a.to_str().unwrap(),
+        "--partners",
+        c.to_str().unwrap(),
+    ]);
+    assert!(e.contains("16c"), "{e}");
 }
