@@ -44,6 +44,21 @@ fn tiny_config(dir: &std::path::Path, extra: &str) -> std::path::PathBuf {
     path
 }
 
+/// `yokai train CONFIG --seeds SEEDS --threads 1 --out OUT` with `more` arguments.
+fn train(config: &std::path::Path, seeds: &str, out: &std::path::Path, more: &[&str]) -> Output {
+    let base = [
+        "train",
+        config.to_str().unwrap(),
+        "--seeds",
+        seeds,
+        "--threads",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    yokai(&[&base[..], more].concat())
+}
+
 fn text(o: &Output) -> String {
     format!(
         "{}{}",
@@ -373,20 +388,12 @@ fn train_obl_levels_in_sequence() {
         "[obl]\nlevel = 1\nbelief_updates = 2\nbelief_hidden = 8\n",
     );
     let out = dir.join("runs");
-    let o = yokai(&[
-        "train",
-        config.to_str().unwrap(),
-        "--seeds",
+    let o = train(
+        &config,
         "0",
-        "--levels",
-        "1..3",
-        "--eval-games",
-        "20",
-        "--threads",
-        "1",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+        &out,
+        &["--levels", "1..3", "--eval-games", "20"],
+    );
     assert!(o.status.success(), "{}", text(&o));
     assert!(
         text(&o).contains("nats per unseen card (first-hand baseline"),
@@ -437,18 +444,7 @@ fn probe_trained_runs() {
     let dir = tmp.path();
     let config = tiny_config(dir, "");
     let runs = dir.join("runs");
-    let o = yokai(&[
-        "train",
-        config.to_str().unwrap(),
-        "--seeds",
-        "0..2",
-        "--eval-games",
-        "0",
-        "--threads",
-        "1",
-        "--out",
-        runs.to_str().unwrap(),
-    ]);
+    let o = train(&config, "0..2", &runs, &["--eval-games", "0"]);
     assert!(o.status.success(), "{}", text(&o));
     let out = dir.join("probe");
     let (a, b) = (runs.join("seed-0"), runs.join("seed-1"));
@@ -499,18 +495,7 @@ fn probe_trained_runs() {
     let toml = std::fs::read_to_string(&config).unwrap();
     std::fs::write(&sixteen, toml.replace("9c-2p-perfect", "16c-2p-perfect")).unwrap();
     let runs16 = dir.join("runs16");
-    let o = yokai(&[
-        "train",
-        sixteen.to_str().unwrap(),
-        "--seeds",
-        "0",
-        "--eval-games",
-        "0",
-        "--threads",
-        "1",
-        "--out",
-        runs16.to_str().unwrap(),
-    ]);
+    let o = train(&sixteen, "0", &runs16, &["--eval-games", "0"]);
     assert!(o.status.success(), "{}", text(&o));
     let c = runs16.join("seed-0");
     let o = yokai(&[
