@@ -266,7 +266,11 @@ impl Symmetry {
         };
         let ch = config.image_channels();
         let scale = g as u32 - 1;
-        let (mut src, mut dst) = (vec![T::ZERO; f], vec![T::ZERO; f]);
+        // One pixel's channels on the stack (2C + 8 ≤ 16 with C ≤ MAX_COLOURS): this runs
+        // for every seat at every step of Other-Play training.
+        let mut buffers = [[T::ZERO; 2 * MAX_COLOURS + 8]; 2];
+        let [src, dst] = &mut buffers;
+        let (src, dst) = (&mut src[..f], &mut dst[..f]);
         for r in 0..g {
             for c in 0..width {
                 let (tr, tc) = if c < g {
@@ -280,11 +284,11 @@ impl Symmetry {
                     *v = input[at(from, k)];
                 }
                 if part == Part::Private {
-                    self.permute_colours(&src, &mut dst, 0);
+                    self.permute_colours(src, dst, 0);
                 } else {
-                    dst.copy_from_slice(&src);
-                    self.permute_colours(&src, &mut dst, ch.known);
-                    self.permute_colours(&src, &mut dst, ch.hint);
+                    dst.copy_from_slice(src);
+                    self.permute_colours(src, dst, ch.known);
+                    self.permute_colours(src, dst, ch.hint);
                     if c < g {
                         dst[ch.row] = T::ratio(tr as u32, scale);
                         dst[ch.col] = T::ratio(tc as u32, scale);
