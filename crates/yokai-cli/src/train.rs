@@ -35,6 +35,9 @@ const PRESETS: &[(&str, &str)] = presets!(
     "op-9c-4p",
     "ippo-16c-2p",
     "ippo-9c-2p-imperfect",
+    "ippo-gcn-9c-2p",
+    "ippo-gatv2-9c-2p",
+    "ippo-relation-9c-2p",
 );
 
 #[derive(clap::Args)]
@@ -189,10 +192,11 @@ fn train_and_evaluate(
         .clamp(1, seeds.len());
     let threads_per_job = (threads / jobs).max(1);
     eprintln!(
-        "training {name} ({} on {game}, {} network, on {}) for seeds {:?} into {}, \
-         {jobs} at a time on {threads_per_job} thread(s) each",
+        "training {name} ({} on {game}, {} network with the {} encoder, on {}) for seeds {:?} \
+         into {}, {jobs} at a time on {threads_per_job} thread(s) each",
         config.algorithm.name,
         format!("{:?}", config.network.preset).to_lowercase(),
+        format!("{:?}", config.network.encoder()).to_lowercase(),
         args.device,
         seeds,
         out.display()

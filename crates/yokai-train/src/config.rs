@@ -96,6 +96,32 @@ pub enum NetworkPreset {
     Compact,
 }
 
+/// The observation encoder (`network.encoder`). Unset, it follows the preset: `cnn` for
+/// `paper`, `mlp` for `compact`. The graph encoders are the paper's encoder ablations; they
+/// read the graph observation (node features; the edges are rebuilt from the features, see
+/// `network/graph.rs`) and keep the preset's embedding width and memory.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum EncoderKind {
+    /// 4 × Conv2d(filters, 3×3, valid) over the image observation (the paper's).
+    Cnn,
+    /// One layer shared by every node, then one over all nodes in order (compact).
+    Mlp,
+    /// Graph convolutions (Kipf & Welling) over the board's 4-neighbourhood.
+    Gcn,
+    /// GATv2 attention (Brody et al.) over the same edges, 4 heads.
+    Gatv2,
+    /// Self-attention between every pair of nodes (a relation module), 4 heads.
+    Relation,
+}
+
+impl EncoderKind {
+    /// Whether the encoder reads the graph observation (which the pointer head needs too).
+    pub fn reads_graph(self) -> bool {
+        self != EncoderKind::Cnn
+    }
+}
+
 /// How `ppo.end_lookahead` turns "what END would pay" into a gradient on the END logit.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -129,6 +155,11 @@ pub enum ActionHead {
 #[serde(deny_unknown_fields, default)]
 pub struct NetworkConfig {
     pub preset: NetworkPreset,
+    /// The encoder; unset, the preset's ([`NetworkConfig::encoder`]).
+    pub encoder: Option<EncoderKind>,
+    /// Graph encoders: message-passing layers and their width (4 and 64 in the paper).
+    pub graph_layers: usize,
+    pub graph_width: usize,
     /// The actor head: `dense` (the paper's) or `pointer`.
     pub head: ActionHead,
     /// Pointer head only: NOOP, END and REVEAL read the mean and maximum of the card
@@ -257,10 +288,27 @@ impl Default for AlgorithmConfig {
     }
 }
 
+/// Attention heads of the GATv2 and relation encoders (the paper's 4).
+pub const GRAPH_HEADS: usize = 4;
+
+impl NetworkConfig {
+    /// The encoder: `network.encoder`, else the preset's (`cnn` for `paper`, `mlp` for
+    /// `compact`).
+    pub fn encoder(&self) -> EncoderKind {
+        self.encoder.unwrap_or(match self.preset {
+            NetworkPreset::Paper => EncoderKind::Cnn,
+            NetworkPreset::Compact => EncoderKind::Mlp,
+        })
+    }
+}
+
 impl Default for NetworkConfig {
     fn default() -> Self {
         NetworkConfig {
             preset: NetworkPreset::Paper,
+            encoder: None,
+            graph_layers: 4,
+            graph_width: 64,
             head: ActionHead::Dense,
             pointer_pool: false,
             hidden: 256,
@@ -429,17 +477,27 @@ impl TrainConfig {
         if self.network.hidden == 0 || self.network.filters == 0 {
             return bad("network.hidden / network.filters", "must be at least 1");
         }
-        if self.network.preset == NetworkPreset::Paper && game.grid() < 9 {
+        let encoder = self.network.encoder();
+        if encoder == EncoderKind::Cnn && game.grid() < 9 {
             return bad(
-                "network.preset",
-                "paper needs a grid of at least 9×9 (four valid 3×3 convolutions)",
+                "network.encoder",
+                "cnn (the paper preset's) needs a grid of at least 9×9 (four valid 3×3 convolutions)",
             );
         }
-        if self.network.head == ActionHead::Pointer && self.network.preset != NetworkPreset::Compact
-        {
+        if self.network.head == ActionHead::Pointer && !encoder.reads_graph() {
             return bad(
                 "network.head",
-                "pointer reads the graph node features: it needs network.preset = \"compact\"",
+                "pointer reads the graph node features: it needs network.preset = \"compact\" \
+                 or a graph encoder (network.encoder = \"mlp\", \"gcn\", \"gatv2\" or \"relation\")",
+            );
+        }
+        if self.network.graph_layers == 0
+            || self.network.graph_width == 0
+            || self.network.graph_width % GRAPH_HEADS != 0
+        {
+            return bad(
+                "network.graph_layers / network.graph_width",
+                "need at least 1 layer and a width that is a positive multiple of 4 (the heads)",
             );
         }
         if !(p.belief_aux >= 0.0 && p.belief_aux.is_finite()) {
@@ -541,6 +599,37 @@ mod tests {
         assert!(TrainConfig::from_toml_str(&pooled, "p.toml").is_ok());
         let e = refused("[network]\npointer_pool = true\n", "p.toml");
         assert!(e.contains("network.pointer_pool"), "{e}");
+    }
+
+    /// `network.encoder` defaults to the preset's, takes the graph kinds, and the pointer
+    /// head works with every encoder that reads the graph observation (not the CNN).
+    #[test]
+    fn the_encoder_follows_the_preset_unless_named() {
+        let paper = TrainConfig::from_toml_str("", "e.toml").unwrap();
+        assert_eq!(paper.network.encoder(), EncoderKind::Cnn);
+        let compact = TrainConfig::from_toml_str("[network]\npreset = \"compact\"\n", "e.toml");
+        assert_eq!(compact.unwrap().network.encoder(), EncoderKind::Mlp);
+        for (name, kind) in [
+            ("gcn", EncoderKind::Gcn),
+            ("gatv2", EncoderKind::Gatv2),
+            ("relation", EncoderKind::Relation),
+        ] {
+            let text = format!("[network]\nencoder = \"{name}\"\nhead = \"pointer\"\n");
+            let c = TrainConfig::from_toml_str(&text, "e.toml").unwrap();
+            assert_eq!(c.network.encoder(), kind);
+            // It survives the round trip through the run's saved config.
+            let again = TrainConfig::from_toml_str(&c.to_toml(), "e.toml").unwrap();
+            assert_eq!(again.network.encoder(), kind);
+        }
+        let e = refused(
+            "[network]\nencoder = \"cnn\"\nhead = \"pointer\"\n",
+            "e.toml",
+        );
+        assert!(e.contains("network.head") && e.contains("gcn"), "{e}");
+        let e = refused("[network]\nencoder = \"gat\"\n", "e.toml");
+        assert!(e.contains("e.toml") && e.contains("gat"), "{e}");
+        let e = refused("[network]\nencoder = \"gcn\"\ngraph_width = 30\n", "e.toml");
+        assert!(e.contains("network.graph_width"), "{e}");
     }
 
     #[test]

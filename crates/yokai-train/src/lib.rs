@@ -15,9 +15,11 @@ pub mod obl;
 pub mod trainer;
 
 pub use backend::{Backend, BackendError};
-pub use config::{ActionHead, EndForm, NetworkPreset, SymmetrySet, TrainConfig, TrainConfigError};
+pub use config::{
+    ActionHead, EncoderKind, EndForm, NetworkPreset, SymmetrySet, TrainConfig, TrainConfigError,
+};
 pub use file::{Container, FileError};
-pub use network::{ActorCritic, CnnEncoder, Encoder, GruCell, MlpEncoder, Recurrent};
+pub use network::{ActorCritic, CnnEncoder, Encoder, GraphEncoder, GruCell, MlpEncoder, Recurrent};
 pub use trainer::{default_device, FileHeader, TrainError, Trainer, UpdateStats};
 pub mod policy;
 pub mod probe;

@@ -1,10 +1,12 @@
 //! Trained networks as [`Policy`]s: load a policy file, a checkpoint or a run directory,
 //! then seat the network anywhere a built-in bot can sit (`yokai eval`, Python, `play`).
 
-use crate::config::{NetworkPreset, TrainConfig};
+use crate::config::{EncoderKind, TrainConfig};
 use crate::distribution::sample_row;
 use crate::file::Container;
-use crate::network::{ActorCritic, CnnEncoder, Encoder, GruCell, MlpEncoder, Recurrent};
+use crate::network::{
+    ActorCritic, CnnEncoder, Encoder, GraphEncoder, GruCell, MlpEncoder, Recurrent,
+};
 use crate::run::{CHECKPOINT, POLICY};
 use crate::trainer::{default_device, load_model, read_header, FileHeader, TrainError};
 use burn::prelude::*;
@@ -16,10 +18,29 @@ use yokai_agents::Policy;
 use yokai_engine::{Action, Config, Game, Seat, SeatView};
 use yokai_vec::Encoding;
 
+/// A loaded network, one variant per encoder type.
 #[derive(Clone, Debug)]
 enum Net {
-    Paper(Box<ActorCritic<CnnEncoder, GruCell>>),
-    Compact(Box<ActorCritic<MlpEncoder, GruCell>>),
+    Cnn(Box<ActorCritic<CnnEncoder, GruCell>>),
+    Mlp(Box<ActorCritic<MlpEncoder, GruCell>>),
+    Graph(Box<ActorCritic<GraphEncoder, GruCell>>),
+}
+
+/// `$body` with `$m` bound to the network of whichever variant `$net` holds: the one place
+/// that lists the variants, so a new encoder type is one line here.
+macro_rules! with_net {
+    ($net:expr, $m:ident => $body:expr) => {
+        match $net {
+            Net::Cnn($m) => $body,
+            Net::Mlp($m) => $body,
+            Net::Graph($m) => $body,
+        }
+    };
+}
+
+/// The observation encoding a network's encoder reads.
+fn encoding_of<E: Encoder, M: Recurrent>(_: &ActorCritic<E, M>) -> Encoding {
+    E::encoding()
 }
 
 /// The file a policy path names: `path` itself, or for a run directory its `policy.ykp`,
@@ -92,13 +113,16 @@ impl TrainedPolicy {
         let opened = PolicyFile::open(path)?;
         let device = default_device();
         let (config, game) = (&opened.config, &opened.game);
-        let net = match config.network.preset {
-            NetworkPreset::Paper => Net::Paper(Box::new(
-                opened.load_into(ActorCritic::new(config, game, 0, &device))?,
-            )),
-            NetworkPreset::Compact => Net::Compact(Box::new(
-                opened.load_into(ActorCritic::new(config, game, 0, &device))?,
-            )),
+        // The file's weights in a network of the type its config names.
+        macro_rules! load {
+            () => {
+                Box::new(opened.load_into(ActorCritic::new(config, game, 0, &device))?)
+            };
+        }
+        let net = match config.network.encoder() {
+            EncoderKind::Cnn => Net::Cnn(load!()),
+            EncoderKind::Mlp => Net::Mlp(load!()),
+            EncoderKind::Gcn | EncoderKind::Gatv2 | EncoderKind::Relation => Net::Graph(load!()),
         };
         Ok(TrainedPolicy {
             net,
@@ -116,10 +140,7 @@ impl TrainedPolicy {
     /// Every parameter of the network, flattened (to compare two trained networks: the
     /// files themselves also hold burn's per-process parameter ids).
     pub fn parameters(&self) -> Vec<f32> {
-        match &self.net {
-            Net::Paper(net) => crate::trainer::parameters(net.as_ref()),
-            Net::Compact(net) => crate::trainer::parameters(net.as_ref()),
-        }
+        with_net!(&self.net, net => crate::trainer::parameters(net.as_ref()))
     }
 
     pub fn header(&self) -> &FileHeader {
@@ -136,18 +157,12 @@ impl TrainedPolicy {
 
     /// The observation encoding the network reads.
     pub fn encoding(&self) -> Encoding {
-        match &self.net {
-            Net::Paper(_) => CnnEncoder::encoding(),
-            Net::Compact(_) => MlpEncoder::encoding(),
-        }
+        with_net!(&self.net, m => encoding_of(m.as_ref()))
     }
 
     /// Width of the network's recurrent state.
     pub fn hidden_size(&self) -> usize {
-        match &self.net {
-            Net::Paper(m) => m.hidden_size(),
-            Net::Compact(m) => m.hidden_size(),
-        }
+        with_net!(&self.net, m => m.hidden_size())
     }
 
     /// One step of the network for `rows` seats at once, as in training: observations
@@ -168,10 +183,7 @@ impl TrainedPolicy {
         let o = Tensor::from_data(TensorData::new(obs, [rows, l]), d);
         let s = Tensor::from_data(TensorData::new(states, [rows, h]), d);
         let k = Tensor::from_data(TensorData::new(keep, [rows, 1]), d);
-        let (out, state) = match &self.net {
-            Net::Paper(m) => m.step(o, s, k),
-            Net::Compact(m) => m.step(o, s, k),
-        };
+        let (out, state) = with_net!(&self.net, m => m.step(o, s, k));
         (
             crate::trainer::to_vec(out.logits),
             crate::trainer::to_vec(state),
@@ -199,10 +211,7 @@ impl TrainedPolicy {
 
     /// A fresh seat-holder; `seed` drives its action sampling.
     pub fn build(&self, seed: u64) -> Box<dyn Policy> {
-        match &self.net {
-            Net::Paper(m) => Box::new(NetworkPolicy::new((**m).clone(), self, seed)),
-            Net::Compact(m) => Box::new(NetworkPolicy::new((**m).clone(), self, seed)),
-        }
+        with_net!(&self.net, m => Box::new(NetworkPolicy::new((**m).clone(), self, seed)))
     }
 }
 

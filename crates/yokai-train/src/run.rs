@@ -10,8 +10,8 @@
 //! ```
 
 use crate::backend::Backend;
-use crate::config::{NetworkPreset, TrainConfig};
-use crate::network::{CnnEncoder, Encoder, MlpEncoder};
+use crate::config::{EncoderKind, TrainConfig};
+use crate::network::{CnnEncoder, Encoder, GraphEncoder, MlpEncoder};
 use crate::trainer::{TrainError, Trainer, UpdateStats};
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -66,9 +66,12 @@ pub fn train_run(
     request: &RunRequest<'_>,
     on_update: &mut dyn FnMut(&UpdateStats, u64),
 ) -> Result<RunSummary, TrainError> {
-    match request.config.network.preset {
-        NetworkPreset::Paper => run::<CnnEncoder>(request, on_update),
-        NetworkPreset::Compact => run::<MlpEncoder>(request, on_update),
+    match request.config.network.encoder() {
+        EncoderKind::Cnn => run::<CnnEncoder>(request, on_update),
+        EncoderKind::Mlp => run::<MlpEncoder>(request, on_update),
+        EncoderKind::Gcn | EncoderKind::Gatv2 | EncoderKind::Relation => {
+            run::<GraphEncoder>(request, on_update)
+        }
     }
 }
 

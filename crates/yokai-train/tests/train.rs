@@ -6,8 +6,8 @@ use yokai_agents::Policy;
 use yokai_engine::Part;
 use yokai_train::file::Container;
 use yokai_train::{
-    read_metrics, train_run, EndForm, MlpEncoder, RunRequest, SymmetrySet, TrainConfig, TrainError,
-    TrainedPolicy, Trainer,
+    read_metrics, train_run, EncoderKind, EndForm, MlpEncoder, RunRequest, SymmetrySet,
+    TrainConfig, TrainError, TrainedPolicy, Trainer,
 };
 
 fn tiny(symmetries: SymmetrySet, updates: u64) -> TrainConfig {
@@ -242,6 +242,56 @@ fn a_run_directory_holds_config_metrics_checkpoint_and_a_playable_policy() {
         assert_eq!(
             episode.record.replay().unwrap().outcome(),
             Some(episode.outcome)
+        );
+    }
+}
+
+/// Each graph encoder (the paper's ablations) trains through `train_run` with the pointer
+/// head and both Other-Play symmetries, resumes to the same parameters as a run without a
+/// stop, and loads as a policy whose every action in self-play is legal. A checkpoint of one
+/// encoder type is refused by a trainer of another, with the file named.
+#[test]
+fn graph_encoders_train_resume_exactly_and_play() {
+    let tmp = tempdir("graph");
+    for encoder in [EncoderKind::Gcn, EncoderKind::Gatv2, EncoderKind::Relation] {
+        let mut config = tiny(SymmetrySet::Both, 3);
+        config.network.encoder = Some(encoder);
+        config.network.head = yokai_train::ActionHead::Pointer;
+        config.network.graph_layers = 2;
+        config.network.graph_width = 8;
+        let run = |name: &str, stops: &[Option<u64>]| {
+            let dir = tmp.path().join(format!("{encoder:?}-{name}"));
+            for (i, &max_updates) in stops.iter().enumerate() {
+                let request = RunRequest {
+                    config: &config,
+                    seed: 4,
+                    dir: &dir,
+                    resume: i > 0,
+                    max_updates,
+                    backend: yokai_train::Backend::Cpu,
+                };
+                one_thread(|| train_run(&request, &mut |_, _| {})).unwrap();
+            }
+            dir
+        };
+        let whole = run("whole", &[None]);
+        let stopped = run("stopped", &[Some(1), None]);
+        let (a, b) = (
+            TrainedPolicy::load(&whole).unwrap(),
+            TrainedPolicy::load(&stopped).unwrap(),
+        );
+        assert_eq!(a.header().update, 3);
+        assert_eq!(a.parameters(), b.parameters(), "{encoder:?}");
+        assert_eq!(a.encoding(), yokai_vec::Encoding::Graph(Part::Full));
+        let game = *a.game();
+        for g in 0..4 {
+            let mut seats: Vec<Box<dyn Policy>> = (0..2).map(|s| a.build(g * 2 + s)).collect();
+            play_episode(game, g, g, &mut seats).unwrap();
+        }
+        let e = err(Trainer::<MlpEncoder>::resume(&whole.join("checkpoint.ykc")));
+        assert!(
+            e.contains("checkpoint.ykc") && e.contains(&format!("{encoder:?}")),
+            "{e}"
         );
     }
 }

@@ -5,11 +5,14 @@
 //! over it. The GRU is our own cell built from two linear maps, because burn's `Gru` cannot
 //! reset its state inside a sequence and PPO rollouts contain episode starts anywhere.
 
+mod board;
+mod graph;
 mod pointer;
 
+pub use graph::GraphEncoder;
 pub use pointer::PointerHead;
 
-use crate::config::{ActionHead, NetworkPreset, TrainConfig};
+use crate::config::{ActionHead, EncoderKind, TrainConfig};
 use crate::init::Init;
 use burn::module::Module;
 use burn::nn::conv::Conv2d;
@@ -21,8 +24,8 @@ use yokai_vec::Encoding;
 
 /// Maps a batch of flattened observations `[B, L]` to embeddings `[B, output_size]`.
 pub trait Encoder: Module + burn::module::ModuleDisplay + Sized {
-    /// The preset this encoder implements (stored in policy files).
-    const PRESET: NetworkPreset;
+    /// The `network.encoder` kinds this type implements (a checkpoint's config names one).
+    const KINDS: &'static [EncoderKind];
     /// The observation encoding the encoder reads.
     fn encoding() -> Encoding;
     fn new(config: &TrainConfig, game: &Config, init: &mut Init, device: &Device) -> Self;
@@ -43,7 +46,7 @@ pub struct CnnEncoder {
 }
 
 impl Encoder for CnnEncoder {
-    const PRESET: NetworkPreset = NetworkPreset::Paper;
+    const KINDS: &'static [EncoderKind] = &[EncoderKind::Cnn];
     fn encoding() -> Encoding {
         Encoding::Image(Part::Full, ImageLayout::Hwc)
     }
@@ -94,7 +97,7 @@ pub struct MlpEncoder {
 const NODE_WIDTH: usize = 32;
 
 impl Encoder for MlpEncoder {
-    const PRESET: NetworkPreset = NetworkPreset::Compact;
+    const KINDS: &'static [EncoderKind] = &[EncoderKind::Mlp];
     fn encoding() -> Encoding {
         Encoding::Graph(Part::Full)
     }

@@ -23,6 +23,7 @@
 //! The card positions are read from the graph node features (row and column channels), so
 //! the head follows Other-Play's rotated views without knowing about them.
 
+use super::board::Board;
 use crate::init::Init;
 use burn::module::{Module, Param};
 use burn::nn::Linear;
@@ -63,13 +64,7 @@ pub struct PointerHead {
 /// The sizes the head needs from the game config.
 #[derive(Clone, Copy, Debug)]
 struct HeadShape {
-    cards: usize,
-    hints: usize,
-    features: usize,
-    grid: usize,
-    /// Feature channels of a node's row and column, scaled to [0, 1].
-    row: usize,
-    col: usize,
+    board: Board,
     /// NOOP, END and REVEAL also read the mean and maximum of the card embeddings.
     pool: bool,
 }
@@ -84,9 +79,8 @@ impl PointerHead {
         init: &mut Init,
         device: &Device,
     ) -> Self {
-        let [_, features] = game.node_shape(yokai_engine::Part::Full);
-        let ch = game.image_channels();
-        let g = game.grid();
+        let board = Board::new(game);
+        let (features, g) = (board.features, board.grid);
         let sqrt2 = std::f64::consts::SQRT_2;
         PointerHead {
             node: init.linear(features, WIDTH, sqrt2, device),
@@ -103,15 +97,7 @@ impl PointerHead {
             hint_key: init.linear(WIDTH, WIDTH, 1.0, device),
             other: init.linear(hidden + if pool { 2 * WIDTH } else { 0 }, 3, gain, device),
             colour: colour_head.then(|| init.linear(WIDTH, game.colours(), 1.0, device)),
-            shape: HeadShape {
-                cards: game.cards(),
-                hints: game.hints(),
-                features,
-                grid: g,
-                row: ch.row,
-                col: ch.col,
-                pool,
-            },
+            shape: HeadShape { board, pool },
         }
     }
 
@@ -128,13 +114,13 @@ impl PointerHead {
         nodes: Tensor<2>,
         h: Tensor<2>,
     ) -> (Tensor<2>, Option<Tensor<3>>) {
-        let HeadShape {
+        let Board {
             cards: y,
             hints: nh,
             features: f,
             grid: g,
             ..
-        } = self.shape;
+        } = self.shape.board;
         let cells = g * g;
         let [b, _] = nodes.dims();
         let x: Tensor<3> = nodes.reshape([b, y + nh, f]);
@@ -143,7 +129,7 @@ impl PointerHead {
         let z_cards = z.clone().narrow(1, 0, y);
         let z_hints = z.narrow(1, y, nh);
 
-        let (on, near) = self.layout(x.clone().narrow(1, 0, y));
+        let (on, near) = self.shape.board.layout(x.clone().narrow(1, 0, y));
         // Card adjacency `[B, Y, Y]`, then one message-passing step.
         let touching = near.clone().matmul(on.swap_dims(1, 2));
         let gathered = touching.matmul(z_cards.clone());
@@ -184,126 +170,20 @@ impl PointerHead {
         );
         (logits, colours)
     }
-
-    /// Where the cards lie, from their node features `[B, Y, F]`: `on[b, y, x]` is 1 when
-    /// card y is on cell x, and `near[b, y, x]` is 1 when it lies on a 4-neighbour of cell x
-    /// (both `[B, Y, g²]`). The row and column channels hold i / (g − 1).
-    pub(crate) fn layout(&self, card_x: Tensor<3>) -> (Tensor<3>, Tensor<3>) {
-        let HeadShape {
-            grid: g, row, col, ..
-        } = self.shape;
-        let [b, y, _] = card_x.dims();
-        let cells = g * g;
-        let device = card_x.device();
-        let scale = (g - 1) as f32;
-        let r = (card_x.clone().narrow(2, row, 1) * scale).round();
-        let c = (card_x.narrow(2, col, 1) * scale).round();
-        let cell_of = (r * g as f32 + c).expand([b, y, cells]);
-        let ids: Tensor<3> = Tensor::from_data(
-            TensorData::new(
-                (0..cells).map(|i| i as f32).collect::<Vec<_>>(),
-                [1, 1, cells],
-            ),
-            &device,
-        );
-        // 1 − |cell − x| clamped at 0: exactly one-hot, since both are whole numbers.
-        let on = (-(cell_of - ids.expand([b, y, cells])).abs() + 1.0).clamp_min(0.0);
-        let near = on
-            .clone()
-            .reshape([b * y, cells])
-            .matmul(cell_adjacency(g, &device))
-            .reshape([b, y, cells]);
-        (on, near)
-    }
-}
-
-/// `[g², g²]`: 1 where two cells of the g×g board are 4-neighbours.
-fn cell_adjacency(g: usize, device: &Device) -> Tensor<2> {
-    let cells = g * g;
-    let mut a = vec![0f32; cells * cells];
-    for r in 0..g {
-        for c in 0..g {
-            let i = r * g + c;
-            let mut link = |j: usize| a[i * cells + j] = 1.0;
-            if r > 0 {
-                link(i - g);
-            }
-            if r + 1 < g {
-                link(i + g);
-            }
-            if c > 0 {
-                link(i - 1);
-            }
-            if c + 1 < g {
-                link(i + 1);
-            }
-        }
-    }
-    Tensor::from_data(TensorData::new(a, [cells, cells]), device)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::config::{ActionHead, NetworkPreset, TrainConfig};
+    use crate::network::board::tests::to_vec;
     use crate::network::{ActorCritic, GruCell, MlpEncoder};
-    use rand_chacha::rand_core::{Rng, SeedableRng};
-    use rand_chacha::ChaCha8Rng;
     use yokai_engine::{Action, Card, Cell, Game, Part, Seat};
 
     /// A head for a GRU state of width 8, without the colour layer.
     fn small_head(game: &Config, pool: bool, gain: f64, seed: u64) -> PointerHead {
         let device = Device::flex();
         PointerHead::new(game, 8, pool, false, gain, &mut Init::new(seed), &device)
-    }
-
-    fn to_vec<const D: usize>(t: Tensor<D>) -> Vec<f32> {
-        t.into_data()
-            .convert::<f32>()
-            .try_into_vec::<f32>()
-            .unwrap()
-    }
-
-    /// Random legal play on 9c and 16c: the positions the head reads from the node
-    /// features are the engine's, and `near` is the 4-neighbourhood of every card's cell.
-    #[test]
-    fn layout_matches_the_engine_board_through_random_play() {
-        let device = Device::flex();
-        for name in ["9c-2p-perfect", "16c-3p-perfect"] {
-            let game_config = Config::from_name(name).unwrap();
-            let head = small_head(&game_config, false, 0.01, 1);
-            let [nodes, f] = game_config.node_shape(Part::Full);
-            let (y, g) = (game_config.cards(), game_config.grid());
-            let mut rng = ChaCha8Rng::seed_from_u64(7);
-            let mut checked = 0;
-            for deal in 0..6 {
-                let mut game = Game::new(game_config, deal);
-                while !game.is_over() {
-                    let mut x = vec![0f32; nodes * f];
-                    game.view(Seat(0)).write_nodes(Part::Full, &mut x).unwrap();
-                    let x: Tensor<3> =
-                        Tensor::from_data(TensorData::new(x, [1, nodes, f]), &device);
-                    let (on, near) = head.layout(x.narrow(1, 0, y));
-                    let (on, near) = (to_vec(on), to_vec(near));
-                    for k in 0..y {
-                        let cell = game.cell_of(Card(k as u8));
-                        let (r, c) = (cell.row as usize, cell.col as usize);
-                        for i in 0..g * g {
-                            let (ri, ci) = (i / g, i % g);
-                            let here = (ri, ci) == (r, c);
-                            let beside = ri.abs_diff(r) + ci.abs_diff(c) == 1;
-                            assert_eq!(on[k * g * g + i], here as u8 as f32, "{name} card {k}");
-                            assert_eq!(near[k * g * g + i], beside as u8 as f32, "{name} card {k}");
-                        }
-                    }
-                    checked += 1;
-                    let legal = game.legal_actions(game.current_seat());
-                    let pick = legal[(rng.next_u64() % legal.len() as u64) as usize];
-                    game.apply(pick).unwrap();
-                }
-            }
-            assert!(checked > 50, "{name}: {checked} states");
-        }
     }
 
     /// The head scores every action of the game, in the engine's order: a MOVE logit

@@ -128,10 +128,13 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             });
         }
         let config = TrainConfig::from_toml_str(&header.train_config, &path.display().to_string())?;
-        if config.network.preset != E::PRESET {
+        if !E::KINDS.contains(&config.network.encoder()) {
             return Err(TrainError::Mismatch {
                 path: path.display().to_string(),
-                message: format!("holds a {:?} network", config.network.preset),
+                message: format!(
+                    "holds a network with the {:?} encoder",
+                    config.network.encoder()
+                ),
             });
         }
         let mut trainer = Trainer::<E, M>::fresh(config, header.seed, infer_device)?;

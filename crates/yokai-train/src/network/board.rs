@@ -1,0 +1,203 @@
+//! The board read back from the graph node features: where each card lies, which cards
+//! touch, which hint lies on which card.
+//!
+//! Why from the features rather than from the environment's adjacency buffer: every
+//! network reads one flat observation per row, and the features already say where each
+//! card is (row and column channels) and which card a placed hint covers (its id channel).
+//! Reading the board from them keeps one input for every encoder and head, and it follows
+//! Other-Play's rotated views for free (the rotated features give the rotated board). The
+//! tests below check the result against the engine on random play.
+
+use burn::prelude::*;
+use burn::tensor::TensorData;
+use yokai_engine::{Config, Part};
+
+/// What a network needs to know to read the board from node features `[B, Y+H, F]`.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Board {
+    pub cards: usize,
+    pub hints: usize,
+    pub features: usize,
+    pub grid: usize,
+    /// Feature channels: row and column (scaled by 1 / (g − 1)), card id ((id + 1) / Y),
+    /// and "hinted" (on a hint slot: placed on a card).
+    row: usize,
+    col: usize,
+    id: usize,
+    hinted: usize,
+}
+
+impl Board {
+    pub fn new(game: &Config) -> Board {
+        let [_, features] = game.node_shape(Part::Full);
+        let ch = game.image_channels();
+        Board {
+            cards: game.cards(),
+            hints: game.hints(),
+            features,
+            grid: game.grid(),
+            row: ch.row,
+            col: ch.col,
+            id: ch.id,
+            hinted: ch.hinted,
+        }
+    }
+
+    /// Where the cards lie, from their node features `[B, Y, F]`: `on[b, y, x]` is 1 when
+    /// card y is on cell x, and `near[b, y, x]` is 1 when it lies on a 4-neighbour of cell x
+    /// (both `[B, Y, g²]`).
+    pub fn layout(&self, card_x: Tensor<3>) -> (Tensor<3>, Tensor<3>) {
+        let g = self.grid;
+        let [b, y, _] = card_x.dims();
+        let cells = g * g;
+        let device = card_x.device();
+        let scale = (g - 1) as f32;
+        let r = (card_x.clone().narrow(2, self.row, 1) * scale).round();
+        let c = (card_x.narrow(2, self.col, 1) * scale).round();
+        let cell_of = (r * g as f32 + c).expand([b, y, cells]);
+        let ids = index_row(cells, &device);
+        // 1 − |cell − x| clamped at 0: exactly one-hot, since both are whole numbers.
+        let on = (-(cell_of - ids.expand([b, y, cells])).abs() + 1.0).clamp_min(0.0);
+        let near = on
+            .clone()
+            .reshape([b * y, cells])
+            .matmul(cell_adjacency(g, &device))
+            .reshape([b, y, cells]);
+        (on, near)
+    }
+
+    /// `[B, Y, Y]`: 1 where two cards lie on 4-neighbouring cells (the engine's adjacency).
+    pub fn card_adjacency(&self, card_x: Tensor<3>) -> Tensor<3> {
+        let (on, near) = self.layout(card_x);
+        near.matmul(on.swap_dims(1, 2))
+    }
+
+    /// `[B, H, Y]`: 1 where hint slot h is placed on card y, from the hint slots' and the
+    /// cards' node features. A placed hint carries its card's id channel; an unplaced one
+    /// carries 0, which no card has.
+    pub fn hint_on_card(&self, hint_x: Tensor<3>, card_x: Tensor<3>) -> Tensor<3> {
+        let [b, h, _] = hint_x.dims();
+        let y = self.cards;
+        let scale = y as f32;
+        let placed = hint_x.clone().narrow(2, self.hinted, 1);
+        let hint_id = (hint_x.narrow(2, self.id, 1) * scale).round();
+        let card_id = (card_x.narrow(2, self.id, 1) * scale)
+            .round()
+            .swap_dims(1, 2);
+        let same =
+            (-(hint_id.expand([b, h, y]) - card_id.expand([b, h, y])).abs() + 1.0).clamp_min(0.0);
+        same * placed.expand([b, h, y])
+    }
+}
+
+/// `[1, 1, n]` holding 0, 1, …, n − 1.
+fn index_row(n: usize, device: &Device) -> Tensor<3> {
+    Tensor::from_data(
+        TensorData::new((0..n).map(|i| i as f32).collect::<Vec<_>>(), [1, 1, n]),
+        device,
+    )
+}
+
+/// `[g², g²]`: 1 where two cells of the g×g board are 4-neighbours.
+fn cell_adjacency(g: usize, device: &Device) -> Tensor<2> {
+    let cells = g * g;
+    let mut a = vec![0f32; cells * cells];
+    for r in 0..g {
+        for c in 0..g {
+            let i = r * g + c;
+            let mut link = |j: usize| a[i * cells + j] = 1.0;
+            if r > 0 {
+                link(i - g);
+            }
+            if r + 1 < g {
+                link(i + g);
+            }
+            if c > 0 {
+                link(i - 1);
+            }
+            if c + 1 < g {
+                link(i + 1);
+            }
+        }
+    }
+    Tensor::from_data(TensorData::new(a, [cells, cells]), device)
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+    use rand_chacha::rand_core::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+    use yokai_engine::{Card, Game, HintSlot, Seat};
+
+    pub(crate) fn to_vec<const D: usize>(t: Tensor<D>) -> Vec<f32> {
+        t.into_data()
+            .convert::<f32>()
+            .try_into_vec::<f32>()
+            .unwrap()
+    }
+
+    /// Random legal play on 9c and 16c: the positions read from the node features are the
+    /// engine's, `near` is the 4-neighbourhood of every card's cell, the card adjacency is
+    /// the engine's `write_adjacency`, and each placed hint is found on its card.
+    #[test]
+    fn the_board_read_from_node_features_is_the_engines_through_random_play() {
+        let device = Device::flex();
+        for name in ["9c-2p-perfect", "16c-3p-perfect"] {
+            let game_config = Config::from_name(name).unwrap();
+            let board = Board::new(&game_config);
+            let [nodes, f] = game_config.node_shape(Part::Full);
+            let (y, g, nh) = (game_config.cards(), game_config.grid(), game_config.hints());
+            let mut rng = ChaCha8Rng::seed_from_u64(7);
+            let (mut checked, mut placed_seen) = (0, 0);
+            for deal in 0..6 {
+                let mut game = Game::new(game_config, deal);
+                while !game.is_over() {
+                    let mut x = vec![0f32; nodes * f];
+                    game.view(Seat(0)).write_nodes(Part::Full, &mut x).unwrap();
+                    let x: Tensor<3> =
+                        Tensor::from_data(TensorData::new(x, [1, nodes, f]), &device);
+                    let cards = x.clone().narrow(1, 0, y);
+                    let (on, near) = board.layout(cards.clone());
+                    let (on, near) = (to_vec(on), to_vec(near));
+                    for k in 0..y {
+                        let cell = game.cell_of(Card(k as u8));
+                        let (r, c) = (cell.row as usize, cell.col as usize);
+                        for i in 0..g * g {
+                            let (ri, ci) = (i / g, i % g);
+                            let here = (ri, ci) == (r, c);
+                            let beside = ri.abs_diff(r) + ci.abs_diff(c) == 1;
+                            assert_eq!(on[k * g * g + i], here as u8 as f32, "{name} card {k}");
+                            assert_eq!(near[k * g * g + i], beside as u8 as f32, "{name} card {k}");
+                        }
+                    }
+                    let mut adjacency = vec![0f32; y * y];
+                    game.write_adjacency(&mut adjacency).unwrap();
+                    assert_eq!(
+                        to_vec(board.card_adjacency(cards.clone())),
+                        adjacency,
+                        "{name}"
+                    );
+                    let hint_on = to_vec(board.hint_on_card(x.narrow(1, y, nh), cards));
+                    for slot in 0..nh {
+                        let on_card = game.hint_card(HintSlot(slot as u8));
+                        placed_seen += on_card.is_some() as usize;
+                        for k in 0..y {
+                            let expected = on_card == Some(Card(k as u8));
+                            assert_eq!(hint_on[slot * y + k], expected as u8 as f32, "{name}");
+                        }
+                    }
+                    checked += 1;
+                    let legal = game.legal_actions(game.current_seat());
+                    let pick = legal[(rng.next_u64() % legal.len() as u64) as usize];
+                    game.apply(pick).unwrap();
+                }
+            }
+            assert!(checked > 50, "{name}: {checked} states");
+            assert!(
+                placed_seen > 20,
+                "{name}: only {placed_seen} placed hints seen"
+            );
+        }
+    }
+}
