@@ -63,3 +63,30 @@ def test_another_game_and_broken_files_are_clear_errors(run_dir, tmp_path):
     broken.write_bytes(data[: len(data) // 2])
     with pytest.raises(yokai.ConfigError, match="broken.ykp is corrupt"):
         yokai.Agent(str(broken))
+
+
+@pytest.mark.parametrize(
+    "network",
+    [
+        'encoder = "gatv2"\nhead = "pointer"\ngraph_layers = 2\ngraph_width = 8',
+        'encoder = "relation"\nmemory = "trxl"\ntrxl_width = 8\ntrxl_heads = 2\ntrxl_memory = 4',
+    ],
+    ids=["gatv2", "relation-trxl"],
+)
+def test_ablation_networks_load_and_play(network, tmp_path):
+    """The paper's ablation networks (graph encoders, Transformer-XL memory) load from
+    Python like the GRU networks and play whole games."""
+    if not BINARY.exists():
+        pytest.skip("needs the yokai binary: scripts/test.sh builds it before pytest")
+    config = tmp_path / "ablation.toml"
+    config.write_text(TINY.replace('preset = "compact"', 'preset = "compact"\n' + network))
+    out = tmp_path / "runs"
+    subprocess.run(
+        [str(BINARY), "train", str(config), "--seeds", "0", "--out", str(out), "--eval-games", "0"],
+        check=True,
+        capture_output=True,
+    )
+    agent = yokai.Agent(str(out / "seed-0"), seed=2)
+    for seed in range(3):
+        env = yokai.play("9c-2p-perfect", [agent, yokai.Agent("greedy", seed)], seed=seed)
+        assert env.done and env.outcome is not None

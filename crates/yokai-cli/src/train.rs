@@ -38,6 +38,7 @@ const PRESETS: &[(&str, &str)] = presets!(
     "ippo-gcn-9c-2p",
     "ippo-gatv2-9c-2p",
     "ippo-relation-9c-2p",
+    "ippo-trxl-9c-2p",
 );
 
 #[derive(clap::Args)]

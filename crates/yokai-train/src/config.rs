@@ -122,6 +122,18 @@ impl EncoderKind {
     }
 }
 
+/// The recurrent memory (`network.memory`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum MemoryKind {
+    /// A GRU of width `network.hidden` (the paper's).
+    #[default]
+    Gru,
+    /// A gated Transformer-XL layer over the last `network.trxl_memory` steps (the paper's
+    /// memory ablation; `network/trxl.rs`).
+    Trxl,
+}
+
 /// How `ppo.end_lookahead` turns "what END would pay" into a gradient on the END logit.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -160,6 +172,14 @@ pub struct NetworkConfig {
     /// Graph encoders: message-passing layers and their width (4 and 64 in the paper).
     pub graph_layers: usize,
     pub graph_width: usize,
+    /// The memory: `gru` (the paper's) or `trxl`.
+    pub memory: MemoryKind,
+    /// Transformer-XL: model width, attention heads, steps remembered, and the bias that
+    /// starts its gates near the identity (64, 8, 32 and 2 in the paper).
+    pub trxl_width: usize,
+    pub trxl_heads: usize,
+    pub trxl_memory: usize,
+    pub trxl_gate_bias: f64,
     /// The actor head: `dense` (the paper's) or `pointer`.
     pub head: ActionHead,
     /// Pointer head only: NOOP, END and REVEAL read the mean and maximum of the card
@@ -309,6 +329,11 @@ impl Default for NetworkConfig {
             encoder: None,
             graph_layers: 4,
             graph_width: 64,
+            memory: MemoryKind::Gru,
+            trxl_width: 64,
+            trxl_heads: 8,
+            trxl_memory: 32,
+            trxl_gate_bias: 2.0,
             head: ActionHead::Dense,
             pointer_pool: false,
             hidden: 256,
@@ -498,6 +523,19 @@ impl TrainConfig {
             return bad(
                 "network.graph_layers / network.graph_width",
                 "need at least 1 layer and a width that is a positive multiple of 4 (the heads)",
+            );
+        }
+        let n = &self.network;
+        if n.trxl_heads == 0 || n.trxl_width == 0 || n.trxl_width % n.trxl_heads != 0 {
+            return bad(
+                "network.trxl_width / network.trxl_heads",
+                "need at least 1 head and a width that is a multiple of the heads",
+            );
+        }
+        if n.trxl_memory == 0 || !n.trxl_gate_bias.is_finite() {
+            return bad(
+                "network.trxl_memory / network.trxl_gate_bias",
+                "need at least 1 remembered step and a finite gate bias",
             );
         }
         if !(p.belief_aux >= 0.0 && p.belief_aux.is_finite()) {

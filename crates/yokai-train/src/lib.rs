@@ -16,10 +16,13 @@ pub mod trainer;
 
 pub use backend::{Backend, BackendError};
 pub use config::{
-    ActionHead, EncoderKind, EndForm, NetworkPreset, SymmetrySet, TrainConfig, TrainConfigError,
+    ActionHead, EncoderKind, EndForm, MemoryKind, NetworkPreset, SymmetrySet, TrainConfig,
+    TrainConfigError,
 };
 pub use file::{Container, FileError};
-pub use network::{ActorCritic, CnnEncoder, Encoder, GraphEncoder, GruCell, MlpEncoder, Recurrent};
+pub use network::{
+    ActorCritic, CnnEncoder, Encoder, GraphEncoder, GruCell, MlpEncoder, Recurrent, TransformerXl,
+};
 pub use trainer::{default_device, FileHeader, TrainError, Trainer, UpdateStats};
 pub mod policy;
 pub mod probe;

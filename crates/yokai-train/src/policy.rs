@@ -1,11 +1,11 @@
 //! Trained networks as [`Policy`]s: load a policy file, a checkpoint or a run directory,
 //! then seat the network anywhere a built-in bot can sit (`yokai eval`, Python, `play`).
 
-use crate::config::{EncoderKind, TrainConfig};
+use crate::config::{EncoderKind, MemoryKind, TrainConfig};
 use crate::distribution::sample_row;
 use crate::file::Container;
 use crate::network::{
-    ActorCritic, CnnEncoder, Encoder, GraphEncoder, GruCell, MlpEncoder, Recurrent,
+    ActorCritic, CnnEncoder, Encoder, GraphEncoder, GruCell, MlpEncoder, Recurrent, TransformerXl,
 };
 use crate::run::{CHECKPOINT, POLICY};
 use crate::trainer::{default_device, load_model, read_header, FileHeader, TrainError};
@@ -24,6 +24,9 @@ enum Net {
     Cnn(Box<ActorCritic<CnnEncoder, GruCell>>),
     Mlp(Box<ActorCritic<MlpEncoder, GruCell>>),
     Graph(Box<ActorCritic<GraphEncoder, GruCell>>),
+    CnnTrxl(Box<ActorCritic<CnnEncoder, TransformerXl>>),
+    MlpTrxl(Box<ActorCritic<MlpEncoder, TransformerXl>>),
+    GraphTrxl(Box<ActorCritic<GraphEncoder, TransformerXl>>),
 }
 
 /// `$body` with `$m` bound to the network of whichever variant `$net` holds: the one place
@@ -34,6 +37,9 @@ macro_rules! with_net {
             Net::Cnn($m) => $body,
             Net::Mlp($m) => $body,
             Net::Graph($m) => $body,
+            Net::CnnTrxl($m) => $body,
+            Net::MlpTrxl($m) => $body,
+            Net::GraphTrxl($m) => $body,
         }
     };
 }
@@ -119,10 +125,14 @@ impl TrainedPolicy {
                 Box::new(opened.load_into(ActorCritic::new(config, game, 0, &device))?)
             };
         }
-        let net = match config.network.encoder() {
-            EncoderKind::Cnn => Net::Cnn(load!()),
-            EncoderKind::Mlp => Net::Mlp(load!()),
-            EncoderKind::Gcn | EncoderKind::Gatv2 | EncoderKind::Relation => Net::Graph(load!()),
+        use EncoderKind::*;
+        let net = match (config.network.encoder(), config.network.memory) {
+            (Cnn, MemoryKind::Gru) => Net::Cnn(load!()),
+            (Mlp, MemoryKind::Gru) => Net::Mlp(load!()),
+            (Gcn | Gatv2 | Relation, MemoryKind::Gru) => Net::Graph(load!()),
+            (Cnn, MemoryKind::Trxl) => Net::CnnTrxl(load!()),
+            (Mlp, MemoryKind::Trxl) => Net::MlpTrxl(load!()),
+            (Gcn | Gatv2 | Relation, MemoryKind::Trxl) => Net::GraphTrxl(load!()),
         };
         Ok(TrainedPolicy {
             net,

@@ -10,8 +10,10 @@
 //! ```
 
 use crate::backend::Backend;
-use crate::config::{EncoderKind, TrainConfig};
-use crate::network::{CnnEncoder, Encoder, GraphEncoder, MlpEncoder};
+use crate::config::{EncoderKind, MemoryKind, TrainConfig};
+use crate::network::{
+    CnnEncoder, Encoder, GraphEncoder, GruCell, MlpEncoder, Recurrent, TransformerXl,
+};
 use crate::trainer::{TrainError, Trainer, UpdateStats};
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -66,11 +68,18 @@ pub fn train_run(
     request: &RunRequest<'_>,
     on_update: &mut dyn FnMut(&UpdateStats, u64),
 ) -> Result<RunSummary, TrainError> {
-    match request.config.network.encoder() {
-        EncoderKind::Cnn => run::<CnnEncoder>(request, on_update),
-        EncoderKind::Mlp => run::<MlpEncoder>(request, on_update),
-        EncoderKind::Gcn | EncoderKind::Gatv2 | EncoderKind::Relation => {
-            run::<GraphEncoder>(request, on_update)
+    use EncoderKind::*;
+    let network = &request.config.network;
+    match (network.encoder(), network.memory) {
+        (Cnn, MemoryKind::Gru) => run::<CnnEncoder, GruCell>(request, on_update),
+        (Mlp, MemoryKind::Gru) => run::<MlpEncoder, GruCell>(request, on_update),
+        (Gcn | Gatv2 | Relation, MemoryKind::Gru) => {
+            run::<GraphEncoder, GruCell>(request, on_update)
+        }
+        (Cnn, MemoryKind::Trxl) => run::<CnnEncoder, TransformerXl>(request, on_update),
+        (Mlp, MemoryKind::Trxl) => run::<MlpEncoder, TransformerXl>(request, on_update),
+        (Gcn | Gatv2 | Relation, MemoryKind::Trxl) => {
+            run::<GraphEncoder, TransformerXl>(request, on_update)
         }
     }
 }
@@ -97,7 +106,7 @@ pub fn checkpoint_config(dir: &Path) -> Result<TrainConfig, TrainError> {
     )?)
 }
 
-fn run<E: Encoder>(
+fn run<E: Encoder, M: Recurrent>(
     request: &RunRequest<'_>,
     on_update: &mut dyn FnMut(&UpdateStats, u64),
 ) -> Result<RunSummary, TrainError> {
@@ -114,7 +123,7 @@ fn run<E: Encoder>(
     let checkpoint = dir.join(CHECKPOINT);
     let metrics_path = dir.join(METRICS);
     let mut trainer = if resume {
-        let mut t = Trainer::<E>::resume_on(&checkpoint, device)?;
+        let mut t = Trainer::<E, M>::resume_on(&checkpoint, device)?;
         t.set_total_steps(config.ppo.total_steps);
         truncate_metrics(&metrics_path, t.update_count())?;
         t
@@ -127,7 +136,7 @@ fn run<E: Encoder>(
             });
         }
         std::fs::create_dir_all(dir).map_err(|e| io(dir, e))?;
-        let t = Trainer::<E>::new_on(config.clone(), seed, device)?;
+        let t = Trainer::<E, M>::new_on(config.clone(), seed, device)?;
         let game = t.config().game_config()?;
         write(&dir.join("config.toml"), &t.config().to_toml())?;
         write(&dir.join("game.toml"), &game.to_toml())?;
@@ -177,8 +186,8 @@ fn run<E: Encoder>(
 
 /// Save the last training game of env 0 as `RUN/replays/update-NNNNNN.jsonl`, so that what
 /// the policy did at each checkpoint can be looked at with `yokai replay`.
-fn save_training_game<E: Encoder>(
-    trainer: &Trainer<E>,
+fn save_training_game<E: Encoder, M: Recurrent>(
+    trainer: &Trainer<E, M>,
     dir: &Path,
     update: u64,
 ) -> Result<(), TrainError> {

@@ -246,21 +246,40 @@ fn a_run_directory_holds_config_metrics_checkpoint_and_a_playable_policy() {
     }
 }
 
-/// Each graph encoder (the paper's ablations) trains through `train_run` with the pointer
-/// head and both Other-Play symmetries, resumes to the same parameters as a run without a
-/// stop, and loads as a policy whose every action in self-play is legal. A checkpoint of one
-/// encoder type is refused by a trainer of another, with the file named.
+/// Each ablation network (graph encoders, Transformer-XL memory) trains through
+/// `train_run` with both Other-Play symmetries, resumes to the same parameters as a run
+/// without a stop (the Transformer-XL's window is part of the saved state), and loads as a
+/// policy whose every action in self-play is legal. A checkpoint of one network type is
+/// refused by a trainer of another, with the file named.
 #[test]
-fn graph_encoders_train_resume_exactly_and_play() {
-    let tmp = tempdir("graph");
-    for encoder in [EncoderKind::Gcn, EncoderKind::Gatv2, EncoderKind::Relation] {
+fn ablation_networks_train_resume_exactly_and_play() {
+    use yokai_train::{ActionHead, MemoryKind};
+    let tmp = tempdir("ablation");
+    for (encoder, memory) in [
+        (EncoderKind::Gcn, MemoryKind::Gru),
+        (EncoderKind::Gatv2, MemoryKind::Gru),
+        (EncoderKind::Relation, MemoryKind::Gru),
+        (EncoderKind::Mlp, MemoryKind::Trxl),
+        (EncoderKind::Gatv2, MemoryKind::Trxl),
+        (EncoderKind::Cnn, MemoryKind::Trxl),
+    ] {
         let mut config = tiny(SymmetrySet::Both, 3);
         config.network.encoder = Some(encoder);
-        config.network.head = yokai_train::ActionHead::Pointer;
+        config.network.memory = memory;
+        config.network.head = if encoder.reads_graph() {
+            ActionHead::Pointer
+        } else {
+            ActionHead::Dense
+        };
+        config.network.filters = 4;
         config.network.graph_layers = 2;
         config.network.graph_width = 8;
+        config.network.trxl_width = 8;
+        config.network.trxl_heads = 2;
+        // Shorter than a rollout, so the window slides within a sequence and across one.
+        config.network.trxl_memory = 5;
         let run = |name: &str, stops: &[Option<u64>]| {
-            let dir = tmp.path().join(format!("{encoder:?}-{name}"));
+            let dir = tmp.path().join(format!("{encoder:?}-{memory:?}-{name}"));
             for (i, &max_updates) in stops.iter().enumerate() {
                 let request = RunRequest {
                     config: &config,
@@ -281,8 +300,17 @@ fn graph_encoders_train_resume_exactly_and_play() {
             TrainedPolicy::load(&stopped).unwrap(),
         );
         assert_eq!(a.header().update, 3);
-        assert_eq!(a.parameters(), b.parameters(), "{encoder:?}");
-        assert_eq!(a.encoding(), yokai_vec::Encoding::Graph(Part::Full));
+        assert_eq!(a.parameters(), b.parameters(), "{encoder:?} {memory:?}");
+        if encoder.reads_graph() {
+            assert_eq!(a.encoding(), yokai_vec::Encoding::Graph(Part::Full));
+        }
+        if memory == MemoryKind::Trxl {
+            assert_eq!(
+                a.hidden_size(),
+                8 + 5 * 8 + 5,
+                "output, window, valid flags"
+            );
+        }
         let game = *a.game();
         for g in 0..4 {
             let mut seats: Vec<Box<dyn Policy>> = (0..2).map(|s| a.build(g * 2 + s)).collect();
@@ -290,7 +318,7 @@ fn graph_encoders_train_resume_exactly_and_play() {
         }
         let e = err(Trainer::<MlpEncoder>::resume(&whole.join("checkpoint.ykc")));
         assert!(
-            e.contains("checkpoint.ykc") && e.contains(&format!("{encoder:?}")),
+            e.contains("checkpoint.ykc") && e.contains(&format!("{memory:?}")),
             "{e}"
         );
     }

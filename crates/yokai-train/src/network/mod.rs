@@ -8,11 +8,13 @@
 mod board;
 mod graph;
 mod pointer;
+mod trxl;
 
 pub use graph::GraphEncoder;
 pub use pointer::PointerHead;
+pub use trxl::TransformerXl;
 
-use crate::config::{ActionHead, EncoderKind, TrainConfig};
+use crate::config::{ActionHead, EncoderKind, MemoryKind, NetworkConfig, TrainConfig};
 use crate::init::Init;
 use burn::module::Module;
 use burn::nn::conv::Conv2d;
@@ -132,12 +134,29 @@ impl Encoder for MlpEncoder {
 
 /// The network's recurrent memory, stepped one time step at a time (the caller zeroes a
 /// row's state where an episode starts). Named `Recurrent`, not `Memory`, because the
-/// engine's `Memory` is the game's memory mode (perfect or imperfect). A step is split in two so that BPTT computes the part that
-/// depends only on the input for a whole sequence in one matrix product.
+/// engine's `Memory` is the game's memory mode (perfect or imperfect). A step is split in
+/// two so that BPTT computes the part that depends only on the input for a whole sequence in
+/// one matrix product.
+///
+/// The state is one flat vector per row, whatever the memory keeps in it (a GRU its hidden
+/// vector; a Transformer-XL its output and its window of past inputs): the trainer stores,
+/// resets and checkpoints it without knowing its layout, and the heads read
+/// [`Recurrent::output`] of it.
 pub trait Recurrent: Module + burn::module::ModuleDisplay + Sized {
-    fn new(d_in: usize, size: usize, init: &mut Init, device: &Device) -> Self;
-    /// Width of the state, which is also the memory's output.
+    /// The `network.memory` this type implements (a checkpoint's config names one).
+    const KIND: MemoryKind;
+    /// A memory reading inputs of width `d_in`, sized by the network config.
+    fn build(d_in: usize, network: &NetworkConfig, init: &mut Init, device: &Device) -> Self;
+    /// Width of the state.
     fn size(&self) -> usize;
+    /// Width of what the heads read from a state.
+    fn output_size(&self) -> usize {
+        self.size()
+    }
+    /// What the heads read from states `[rows, size]`: `[rows, output_size]`.
+    fn output(&self, state: Tensor<2>) -> Tensor<2> {
+        state
+    }
     /// The input-dependent part of a step: `[rows, d_in]` → `[rows, projected_size]`.
     fn project(&self, x: Tensor<2>) -> Tensor<2>;
     fn projected_size(&self) -> usize;
@@ -154,13 +173,21 @@ pub struct GruCell {
     size: usize,
 }
 
-impl Recurrent for GruCell {
-    fn new(d_in: usize, size: usize, init: &mut Init, device: &Device) -> GruCell {
+impl GruCell {
+    pub fn new(d_in: usize, size: usize, init: &mut Init, device: &Device) -> GruCell {
         GruCell {
             input: init.linear(d_in, 3 * size, 1.0, device),
             hidden: init.linear(size, 3 * size, 1.0, device),
             size,
         }
+    }
+}
+
+impl Recurrent for GruCell {
+    const KIND: MemoryKind = MemoryKind::Gru;
+
+    fn build(d_in: usize, network: &NetworkConfig, init: &mut Init, device: &Device) -> Self {
+        GruCell::new(d_in, network.hidden, init, device)
     }
 
     fn size(&self) -> usize {
@@ -218,16 +245,18 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
         let encoder = E::new(config, game, &mut init, device);
         let h = config.network.hidden;
         let sqrt2 = std::f64::consts::SQRT_2;
+        let embed = init.linear(encoder.output_size(), h, sqrt2, device);
+        let gru = M::build(h, &config.network, &mut init, device);
+        let out = gru.output_size();
         ActorCritic {
-            embed: init.linear(encoder.output_size(), h, sqrt2, device),
+            embed,
             encoder,
-            gru: M::new(h, h, &mut init, device),
             actor: (config.network.head == ActionHead::Dense)
-                .then(|| init.linear(h, game.num_actions(), config.network.actor_gain, device)),
+                .then(|| init.linear(out, game.num_actions(), config.network.actor_gain, device)),
             pointer: (config.network.head == ActionHead::Pointer).then(|| {
                 PointerHead::new(
                     game,
-                    h,
+                    out,
                     config.network.pointer_pool,
                     config.ppo.belief_aux > 0.0,
                     config.network.actor_gain,
@@ -235,12 +264,14 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
                     device,
                 )
             }),
-            critic: init.linear(h, 1, config.network.critic_gain, device),
-            hidden: h,
+            critic: init.linear(out, 1, config.network.critic_gain, device),
+            hidden: gru.size(),
+            gru,
         }
     }
 
-    /// Size of the recurrent state.
+    /// Size of the recurrent state (what the trainer stores per row; for a GRU its hidden
+    /// vector, for a Transformer-XL its output and window of past inputs).
     pub fn hidden_size(&self) -> usize {
         self.hidden
     }
@@ -251,7 +282,7 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
     }
 
     fn heads(&self, obs: Tensor<2>, h: Tensor<2>) -> Output {
-        let values = self.critic.forward(h.clone()).squeeze_dim(1);
+        let values = self.values(h.clone());
         Output {
             logits: self.policy_logits(obs, h),
             values,
@@ -270,6 +301,7 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
     /// Action logits `[rows, N_a]` from the rows' observations `[rows, L]` (read by the
     /// pointer head only) and the GRU states after them.
     pub fn policy_logits(&self, obs: Tensor<2>, states: Tensor<2>) -> Tensor<2> {
+        let states = self.gru.output(states);
         match (&self.actor, &self.pointer) {
             (Some(actor), _) => actor.forward(states),
             (None, Some(pointer)) => pointer.forward(obs, states),
@@ -285,7 +317,7 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
         states: Tensor<2>,
     ) -> (Tensor<2>, Option<Tensor<3>>) {
         match &self.pointer {
-            Some(pointer) => pointer.forward_with_colours(obs, states),
+            Some(pointer) => pointer.forward_with_colours(obs, self.gru.output(states)),
             None => (self.policy_logits(obs, states), None),
         }
     }
@@ -295,9 +327,9 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
         self.pointer.is_some()
     }
 
-    /// State values `[rows]` from GRU states.
+    /// State values `[rows]` from memory states.
     pub fn values(&self, states: Tensor<2>) -> Tensor<1> {
-        self.critic.forward(states).squeeze_dim(1)
+        self.critic.forward(self.gru.output(states)).squeeze_dim(1)
     }
 
     /// Unroll `T` steps for `B` sequences: observations `[B, T, L]`, initial states

@@ -128,12 +128,13 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             });
         }
         let config = TrainConfig::from_toml_str(&header.train_config, &path.display().to_string())?;
-        if !E::KINDS.contains(&config.network.encoder()) {
+        if !E::KINDS.contains(&config.network.encoder()) || M::KIND != config.network.memory {
             return Err(TrainError::Mismatch {
                 path: path.display().to_string(),
                 message: format!(
-                    "holds a network with the {:?} encoder",
-                    config.network.encoder()
+                    "holds a network with the {:?} encoder and {:?} memory",
+                    config.network.encoder(),
+                    config.network.memory
                 ),
             });
         }
