@@ -69,6 +69,7 @@ def main():
     ap.add_argument("--games", type=int, default=1000, help="self-play games per seed")
     ap.add_argument("--out", default="runs/ablation")
     ap.add_argument("--yokai", default=str(ROOT / "target/release/yokai"))
+    ap.add_argument("--threads", type=int, help="worker threads per training run (default: all)")
     args = ap.parse_args()
 
     base_path = pathlib.Path(args.base)
@@ -90,7 +91,8 @@ def main():
             start = time.time()
             subprocess.run(
                 [args.yokai, "train", str(cfg), "--seeds", str(seed), "--eval-games", "0",
-                 "--out", str(vdir)],
+                 "--out", str(vdir)]
+                + (["--threads", str(args.threads)] if args.threads else []),
                 check=True, stdout=subprocess.DEVNULL,
             )
             seconds.append(time.time() - start)

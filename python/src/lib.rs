@@ -9,6 +9,7 @@ mod agent;
 mod arrays;
 mod env;
 mod errors;
+mod probe;
 mod vec_env;
 
 use pyo3::prelude::*;
@@ -36,6 +37,8 @@ fn yokai_core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<agent::PyAgent>()?;
     m.add_function(wrap_pyfunction!(episode_seed, m)?)?;
     m.add_function(wrap_pyfunction!(configs, m)?)?;
+    m.add_function(wrap_pyfunction!(probe::probe_records, m)?)?;
+    m.add_function(wrap_pyfunction!(probe::probe_accuracy, m)?)?;
     m.add("YokaiError", py.get_type::<errors::YokaiError>())?;
     m.add("ConfigError", py.get_type::<errors::ConfigError>())?;
     m.add(

@@ -21,6 +21,8 @@ from ._core import (
     __version__,
     configs,
     episode_seed,
+    probe_accuracy,
+    probe_records,
 )
 
 __all__ = [
@@ -33,6 +35,8 @@ __all__ = [
     "__version__",
     "configs",
     "episode_seed",
+    "probe_accuracy",
+    "probe_records",
 ]
 
 from ._core import Agent  # noqa: E402

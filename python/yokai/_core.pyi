@@ -28,6 +28,24 @@ def episode_seed(seed: int, env: int, episode: int) -> int:
 def configs() -> list[str]:
     """Names of the built-in configurations (e.g. ``"9c-2p-perfect"``)."""
 
+def probe_records(
+    policies: list[str], probed: list[bool] | None = None, games: int = 500, seed: int = 0
+) -> dict[str, np.ndarray]:
+    """Play ``games`` games with one trained policy per seat and record the probed seats'
+    memory after every step: ``states`` [N, H] float32, ``colours`` [N, Y] uint8, ``seen``
+    [N, Y] bool, ``steps`` [N] and ``episodes`` [N] int64."""
+
+def probe_accuracy(
+    config: str,
+    records: dict[str, np.ndarray],
+    test: dict[str, np.ndarray] | None = None,
+    min_rows: int = 20,
+) -> dict[str, np.ndarray | float]:
+    """Fit a linear probe per card on 80 % of ``records``' episodes and report accuracy per
+    game step (``step``, ``all``, ``oracle_all``, ``unseen``, ``oracle_unseen``, ``rows``,
+    ``chance``) on the other 20 %, or on all of ``test``. ``records`` may hold any agent's
+    states (same keys as ``probe_records`` returns)."""
+
 class VecEnv:
     """N games of one configuration stepped together on all cores.
 
