@@ -88,8 +88,9 @@ impl Entry {
 }
 
 /// Expand the policy arguments: a quoted glob in the last path component
-/// (`runs/op/seed-*`), or a method directory holding `seed-N` runs, becomes every matching
-/// run; anything else is passed through.
+/// (`runs/op/seed-*`, `runs/op/seed-[0-3]`; the `glob` crate's syntax), or a method
+/// directory holding `seed-N` runs, becomes every matching run; anything else is passed
+/// through.
 pub fn expand(args: &[String]) -> Result<Vec<String>, String> {
     let mut out = Vec::new();
     for arg in args {
@@ -99,8 +100,10 @@ pub fn expand(args: &[String]) -> Result<Vec<String>, String> {
                 || p.join(yokai_train::run::CHECKPOINT).exists()
         };
         let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("");
-        let (dir, pattern) = if name.contains('*') {
-            (path.parent().unwrap_or(Path::new(".")), Some(name))
+        let (dir, pattern) = if name.contains(['*', '?', '[']) {
+            let pattern = glob::Pattern::new(name)
+                .map_err(|e| format!("`{arg}` is not a valid pattern: {e}"))?;
+            (path.parent().unwrap_or(Path::new(".")), Some(pattern))
         } else if path.is_dir() && !is_run(path) {
             (path, None)
         } else {
@@ -117,8 +120,8 @@ pub fn expand(args: &[String]) -> Result<Vec<String>, String> {
             .filter_map(|e| e.ok().map(|e| e.path()))
             .filter(|p| {
                 let n = p.file_name().and_then(|n| n.to_str()).unwrap_or("");
-                match pattern {
-                    Some(pat) => glob_match(pat, n),
+                match &pattern {
+                    Some(pattern) => pattern.matches(n),
                     None => p.is_dir() && is_run(p),
                 }
             })
@@ -143,21 +146,6 @@ pub fn expand(args: &[String]) -> Result<Vec<String>, String> {
         out.extend(found.into_iter().map(|p| p.display().to_string()));
     }
     Ok(out)
-}
-
-/// `*` matches any run of characters; everything else matches itself.
-fn glob_match(pattern: &str, name: &str) -> bool {
-    match pattern.split_once('*') {
-        None => pattern == name,
-        Some((head, tail)) => {
-            let Some(rest) = name.strip_prefix(head) else {
-                return false;
-            };
-            (0..=rest.len())
-                .filter(|&i| rest.is_char_boundary(i))
-                .any(|i| glob_match(tail, &rest[i..]))
-        }
-    }
 }
 
 pub fn run(args: Args) -> Result<(), String> {

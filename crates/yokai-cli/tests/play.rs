@@ -241,6 +241,22 @@ fn train_then_eval_a_run_directory() {
             "{arg}: {t}"
         );
     }
+    // A character class picks seeds; a broken pattern is an error that names it.
+    let out = yokai(&[
+        "eval",
+        &format!("{}/seed-[1]", out_dir.display()),
+        "--games",
+        "4",
+    ]);
+    let t = text(&out);
+    assert!(out.status.success(), "{t}");
+    assert!(t.contains("seed-1") && !t.contains("seed-0"), "{t}");
+    let out = yokai(&["eval", &format!("{}/seed-[", out_dir.display())]);
+    let t = text(&out);
+    assert!(
+        !out.status.success() && t.contains("is not a valid pattern"),
+        "{t}"
+    );
     let replays = eval.join("replays");
     assert!(
         std::fs::read_dir(&replays).unwrap().count() >= 2,

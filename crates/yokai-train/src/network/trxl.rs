@@ -276,15 +276,18 @@ mod tests {
     fn invalid_slots_are_masked() {
         let net = memory(4);
         let x = net.project(row(input(1)));
-        let fresh = to_vec(net.output(net.step(
-            x.clone(),
-            Tensor::zeros([1, net.size()], &Device::flex()),
-        )));
+        let fresh = to_vec(
+            net.output(net.step(x.clone(), Tensor::zeros([1, net.size()], &Device::flex()))),
+        );
         let mut junk: Vec<f32> = (0..net.size()).map(|i| (i as f32 * 1.3).cos()).collect();
         let flags = 16 + 4 * 16;
         junk[flags..].fill(0.0);
         let masked = to_vec(net.output(net.step(x.clone(), row(junk.clone()))));
-        let gap = fresh.iter().zip(&masked).map(|(a, b)| (a - b).abs()).fold(0.0, f32::max);
+        let gap = fresh
+            .iter()
+            .zip(&masked)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f32::max);
         assert!(gap < 1e-5, "{gap}");
         junk[flags + 3] = 1.0;
         let seen = to_vec(net.output(net.step(x, row(junk))));
