@@ -1,6 +1,7 @@
 //! `yokai bench`: environment steps per second with random legal actions, beside the
 //! paper's H100 figures.
 
+use anyhow::{anyhow, bail};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde_json::json;
 use std::time::{Duration, Instant};
@@ -60,18 +61,18 @@ fn measure<T: Scalar + Default>(
     config: Config,
     options: VecEnvOptions,
     seconds: f64,
-) -> Result<f64, String> {
-    let mut env = VecEnv::<T>::new(config, options).map_err(|e| e.to_string())?;
+) -> anyhow::Result<f64> {
+    let mut env = VecEnv::<T>::new(config, options)?;
     let n = options.num_envs;
     let mut actions = vec![0u32; n];
     let mut round = 0u64;
-    let mut run_for = |env: &mut VecEnv<T>, limit: Duration| -> Result<(u64, Duration), String> {
+    let mut run_for = |env: &mut VecEnv<T>, limit: Duration| -> anyhow::Result<(u64, Duration)> {
         let start = Instant::now();
         let mut iterations = 0u64;
         while start.elapsed() < limit {
             for _ in 0..8 {
                 env.sample_legal(round, &mut actions);
-                env.step(&actions).map_err(|e| e.to_string())?;
+                env.step(&actions)?;
                 round += 1;
                 iterations += 1;
             }
@@ -104,11 +105,11 @@ enum Dtype {
 }
 
 impl Dtype {
-    fn parse(name: &str) -> Result<Dtype, String> {
+    fn parse(name: &str) -> anyhow::Result<Dtype> {
         match name {
             "f32" => Ok(Dtype::F32),
             "u8" => Ok(Dtype::U8),
-            other => Err(format!("unknown dtype `{other}` (expected f32 or u8)")),
+            other => Err(anyhow!("unknown dtype `{other}` (expected f32 or u8)")),
         }
     }
     fn name(self) -> &'static str {
@@ -120,7 +121,7 @@ impl Dtype {
 }
 
 impl Row {
-    fn measure(&self, seconds: f64) -> Result<f64, String> {
+    fn measure(&self, seconds: f64) -> anyhow::Result<f64> {
         match self.dtype {
             Dtype::F32 => measure::<f32>(self.config, self.options, seconds),
             Dtype::U8 => measure::<u8>(self.config, self.options, seconds),
@@ -128,12 +129,12 @@ impl Row {
     }
 }
 
-pub fn run(args: Args) -> Result<(), String> {
+pub fn run(args: Args) -> anyhow::Result<()> {
     if args.seconds <= 0.0 || !args.seconds.is_finite() {
-        return Err("--seconds must be positive".into());
+        bail!("--seconds must be positive");
     }
     if args.repeats == 0 {
-        return Err("--repeats must be at least 1".into());
+        bail!("--repeats must be at least 1");
     }
     let threads = args
         .threads
@@ -205,13 +206,12 @@ pub fn run(args: Args) -> Result<(), String> {
 
 /// Every (config, games, encoding, dtype) the options ask for, checked before any is
 /// measured so that a typo fails at once rather than after minutes of measuring.
-fn rows(args: &Args, threads: usize) -> Result<Vec<Row>, String> {
+fn rows(args: &Args, threads: usize) -> anyhow::Result<Vec<Row>> {
     let encodings = args
         .encodings
         .iter()
         .map(|name| yokai_vec::Encoding::parse(name).map(|e| (name.as_str(), e)))
-        .collect::<Result<Vec<_>, _>>()
-        .map_err(|e| e.to_string())?;
+        .collect::<Result<Vec<_>, _>>()?;
     let dtypes = args
         .dtypes
         .iter()
@@ -219,10 +219,10 @@ fn rows(args: &Args, threads: usize) -> Result<Vec<Row>, String> {
         .collect::<Result<Vec<_>, _>>()?;
     let mut rows = Vec::new();
     for name in &args.configs {
-        let config = Config::resolve(name).map_err(|e| e.to_string())?;
+        let config = Config::resolve(name)?;
         for &envs in &args.envs {
             if envs == 0 {
-                return Err("--envs: every number of games must be at least 1".into());
+                bail!("--envs: every number of games must be at least 1");
             }
             for &(encoding_name, encoding) in &encodings {
                 for &dtype in &dtypes {

@@ -1,6 +1,7 @@
 //! `yokai compare`: several evaluation outputs in one table.
 
 use crate::summary::{paper_rows, table_row, EvalSummary, TABLE_HEAD};
+use anyhow::{anyhow, Context};
 use std::path::PathBuf;
 
 #[derive(clap::Args)]
@@ -14,21 +15,21 @@ pub struct Args {
     out: Option<PathBuf>,
 }
 
-pub fn run(args: Args) -> Result<(), String> {
+pub fn run(args: Args) -> anyhow::Result<()> {
     let mut summaries = Vec::new();
     for dir in &args.evaluations {
         let path = dir.join("summary.json");
         let text = std::fs::read_to_string(&path).map_err(|e| {
-            format!(
+            anyhow!(
                 "cannot read {}: {e} (is {} the --out of `yokai eval` with trained policies?)",
                 path.display(),
                 dir.display()
             )
         })?;
         let summary: EvalSummary = serde_json::from_str(&text)
-            .map_err(|e| format!("{} is not an evaluation summary: {e}", path.display()))?;
+            .with_context(|| format!("{} is not an evaluation summary", path.display()))?;
         if summary.groups.is_empty() {
-            return Err(format!(
+            return Err(anyhow!(
                 "{} has no trained methods to compare (only built-in policies were evaluated)",
                 dir.display()
             ));
@@ -50,7 +51,7 @@ pub fn run(args: Args) -> Result<(), String> {
     }
     print!("{out}");
     if let Some(path) = args.out {
-        std::fs::write(&path, &out).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        std::fs::write(&path, &out).with_context(|| format!("cannot write {}", path.display()))?;
     }
     Ok(())
 }

@@ -2,6 +2,7 @@
 
 use crate::plots;
 use crate::summary::{paper_rows, summarise, table_row, EvalSummary, GroupSummary, TABLE_HEAD};
+use anyhow::{anyhow, bail, Context};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
 use yokai_agents::eval::{play_group, seatings, PolicyFactory};
@@ -52,15 +53,15 @@ pub enum Entry {
 
 impl Entry {
     /// A built-in name, or a path to a policy file, checkpoint or run directory.
-    pub fn parse(text: &str) -> Result<Entry, String> {
+    pub fn parse(text: &str) -> anyhow::Result<Entry> {
         let path = Path::new(text);
         if path.exists() {
             return TrainedPolicy::load(path)
                 .map(|p| Entry::Trained(Box::new(p)))
-                .map_err(|e| e.to_string());
+                .map_err(anyhow::Error::from);
         }
         text.parse::<PolicySpec>().map(Entry::Builtin).map_err(|e| {
-            format!("{e}; a trained policy is given as the path of a policy file, checkpoint or run directory")
+            anyhow!("{e}; a trained policy is given as the path of a policy file, checkpoint or run directory")
         })
     }
 
@@ -79,9 +80,9 @@ impl Entry {
     }
 
     /// A trained network fits only the game it was trained on.
-    pub fn check_game(&self, config: &Config) -> Result<(), String> {
+    pub fn check_game(&self, config: &Config) -> anyhow::Result<()> {
         match self {
-            Entry::Trained(p) => p.check_game(config).map_err(|e| e.to_string()),
+            Entry::Trained(p) => p.check_game(config).map_err(anyhow::Error::from),
             Entry::Builtin(_) => Ok(()),
         }
     }
@@ -91,7 +92,7 @@ impl Entry {
 /// (`runs/op/seed-*`, `runs/op/seed-[0-3]`; the `glob` crate's syntax), or a method
 /// directory holding `seed-N` runs, becomes every matching run; anything else is passed
 /// through.
-pub fn expand(args: &[String]) -> Result<Vec<String>, String> {
+pub fn expand(args: &[String]) -> anyhow::Result<Vec<String>> {
     let mut out = Vec::new();
     for arg in args {
         let path = Path::new(arg);
@@ -102,7 +103,7 @@ pub fn expand(args: &[String]) -> Result<Vec<String>, String> {
         let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("");
         let (dir, pattern) = if name.contains(['*', '?', '[']) {
             let pattern = glob::Pattern::new(name)
-                .map_err(|e| format!("`{arg}` is not a valid pattern: {e}"))?;
+                .with_context(|| format!("`{arg}` is not a valid pattern"))?;
             (path.parent().unwrap_or(Path::new(".")), Some(pattern))
         } else if path.is_dir() && !is_run(path) {
             (path, None)
@@ -116,7 +117,7 @@ pub fn expand(args: &[String]) -> Result<Vec<String>, String> {
             dir
         };
         let mut found: Vec<PathBuf> = std::fs::read_dir(dir)
-            .map_err(|e| format!("cannot list {}: {e}", dir.display()))?
+            .with_context(|| format!("cannot list {}", dir.display()))?
             .filter_map(|e| e.ok().map(|e| e.path()))
             .filter(|p| {
                 let n = p.file_name().and_then(|n| n.to_str()).unwrap_or("");
@@ -127,7 +128,7 @@ pub fn expand(args: &[String]) -> Result<Vec<String>, String> {
             })
             .collect();
         if found.is_empty() {
-            return Err(format!("`{arg}` matches no policy file or run directory"));
+            bail!("`{arg}` matches no policy file or run directory");
         }
         // seed-2 before seed-10.
         found.sort_by_key(|p| {
@@ -148,9 +149,9 @@ pub fn expand(args: &[String]) -> Result<Vec<String>, String> {
     Ok(out)
 }
 
-pub fn run(args: Args) -> Result<(), String> {
+pub fn run(args: Args) -> anyhow::Result<()> {
     if args.games == 0 {
-        return Err("--games must be at least 1".into());
+        bail!("--games must be at least 1");
     }
     let entries = expand(&args.policies)?
         .iter()
@@ -164,9 +165,9 @@ pub fn run(args: Args) -> Result<(), String> {
             Entry::Builtin(_) => None,
         }),
     ) {
-        (Some(name), _) => Config::resolve(name).map_err(|e| e.to_string())?,
+        (Some(name), _) => Config::resolve(name)?,
         (None, Some(game)) => game,
-        (None, None) => Config::resolve("9c-2p-perfect").map_err(|e| e.to_string())?,
+        (None, None) => Config::resolve("9c-2p-perfect")?,
     };
     let names: Vec<String> = entries.iter().map(Entry::name).collect();
     let results = evaluate(&config, &entries, args.games, args.seed, args.threads)?;
@@ -205,8 +206,8 @@ pub fn save_replays(
     games: u64,
     seed: u64,
     dir: &Path,
-) -> Result<(), String> {
-    std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+) -> anyhow::Result<()> {
+    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
     for &(i, j) in pairs {
         let seating = seatings(&[i, j], config.players())
             .into_iter()
@@ -219,14 +220,13 @@ pub fn save_replays(
                 .enumerate()
                 .map(|(s, &e)| entries[e].build(yokai_engine::derive_seed(game_seed, s as u64)))
                 .collect();
-            let episode = yokai_agents::play_episode(*config, game_seed, game_seed, &mut policies)
-                .map_err(|e| e.to_string())?;
+            let episode = yokai_agents::play_episode(*config, game_seed, game_seed, &mut policies)?;
             let names = seating.iter().map(|&e| entries[e].name()).collect();
-            let replay = yokai_engine::Replay::from_record(&episode.record, Some(game_seed), names)
-                .map_err(|e| e.to_string())?;
+            let replay =
+                yokai_engine::Replay::from_record(&episode.record, Some(game_seed), names)?;
             let path = dir.join(format!("{i}-{j}-game{k}.jsonl"));
             std::fs::write(&path, replay.to_jsonl())
-                .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+                .with_context(|| format!("cannot write {}", path.display()))?;
         }
     }
     Ok(())
@@ -239,7 +239,7 @@ pub fn evaluate(
     games: u64,
     seed: u64,
     threads: Option<usize>,
-) -> Result<Vec<PairResult>, String> {
+) -> anyhow::Result<Vec<PairResult>> {
     for e in entries {
         e.check_game(config)?;
     }
@@ -247,7 +247,7 @@ pub fn evaluate(
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads.unwrap_or(0))
         .build()
-        .map_err(|e| format!("could not start threads: {e}"))?;
+        .context("could not start threads")?;
     let n = entries.len();
     let pairs: Vec<(usize, usize)> = (0..n).flat_map(|i| (i..n).map(move |j| (i, j))).collect();
     let players = config.players();
@@ -277,9 +277,7 @@ pub fn evaluate(
         for seating in &seatings {
             let seats: Vec<&PolicyFactory<'_>> =
                 seating.iter().map(|&k| factories[k].as_ref()).collect();
-            let part = pool
-                .install(|| play_group(config, &seats, games, seed, &|g| bar.inc(g)))
-                .map_err(|e| e.to_string())?;
+            let part = pool.install(|| play_group(config, &seats, games, seed, &|g| bar.inc(g)))?;
             acc.merge(&part);
         }
         let metrics = acc.metrics().expect("at least one game");
@@ -424,13 +422,13 @@ pub fn write_outputs(
     results: &[PairResult],
     games: u64,
     groups: &[GroupSummary],
-) -> Result<String, String> {
+) -> anyhow::Result<String> {
     let names: Vec<String> = entries.iter().map(Entry::name).collect();
     let names = &names;
-    std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
     let write = |file: &str, text: String| {
         let path = dir.join(file);
-        std::fs::write(&path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))
+        std::fs::write(&path, text).with_context(|| format!("cannot write {}", path.display()))
     };
     let mut pictures = Vec::new();
     let n = names.len();
@@ -461,7 +459,7 @@ pub fn write_outputs(
         let mut ret = Vec::new();
         let mut see = Vec::new();
         for (name, run) in &runs {
-            let log = yokai_train::read_metrics(run).map_err(|e| e.to_string())?;
+            let log = yokai_train::read_metrics(run)?;
             let points = |f: &dyn Fn(&yokai_engine::Metrics) -> f64| {
                 let raw: Vec<(f64, f64)> = log
                     .iter()

@@ -92,8 +92,9 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
-        Err(message) => {
-            eprintln!("error: {message}");
+        Err(error) => {
+            // `{:#}` prints the context chain on one line: "cannot read x.toml: not found".
+            eprintln!("error: {error:#}");
             ExitCode::FAILURE
         }
     }

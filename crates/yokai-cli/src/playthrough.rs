@@ -2,6 +2,7 @@
 //! every observation encoding of every seat, the action and what it paid — or, with
 //! `--write DIR`, the whole golden set the engine's tests compare against.
 
+use anyhow::Context;
 use std::path::PathBuf;
 use yokai_engine::{golden_set, playthrough, Chooser, Config};
 
@@ -23,19 +24,19 @@ pub struct Args {
     write: Option<PathBuf>,
 }
 
-pub fn run(args: Args) -> Result<(), String> {
+pub fn run(args: Args) -> anyhow::Result<()> {
     if let Some(dir) = args.write {
-        std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        std::fs::create_dir_all(&dir).with_context(|| format!("{}", dir.display()))?;
         let set = golden_set();
         for game in &set {
             let path = dir.join(&game.file_name);
             let text = playthrough(game.config, game.seed, game.chooser);
-            std::fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))?;
+            std::fs::write(&path, text).with_context(|| format!("{}", path.display()))?;
         }
         eprintln!("wrote {} playthroughs into {}", set.len(), dir.display());
         return Ok(());
     }
-    let config = Config::resolve(&args.config).map_err(|e| e.to_string())?;
+    let config = Config::resolve(&args.config)?;
     let chooser = if args.never_end {
         Chooser::NeverEnd
     } else {

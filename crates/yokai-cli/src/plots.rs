@@ -1,6 +1,7 @@
 //! Pictures of results as SVG (written by hand: a heatmap and line charts need no more),
 //! and PNG by rendering that SVG with resvg, which `yokai replay --png` uses too.
 
+use anyhow::Context;
 use std::fmt::Write;
 
 /// Text safe inside SVG elements.
@@ -247,28 +248,28 @@ fn load_fonts() -> resvg::usvg::fontdb::Database {
 pub fn png(
     svg: &str,
     fonts: std::sync::Arc<resvg::usvg::fontdb::Database>,
-) -> Result<Vec<u8>, String> {
+) -> anyhow::Result<Vec<u8>> {
     let options = resvg::usvg::Options {
         fontdb: fonts,
         ..Default::default()
     };
-    let tree = resvg::usvg::Tree::from_str(svg, &options).map_err(|e| format!("svg: {e}"))?;
+    let tree = resvg::usvg::Tree::from_str(svg, &options).context("svg")?;
     let size = tree.size().to_int_size();
     let mut pixmap = resvg::tiny_skia::Pixmap::new(size.width(), size.height())
-        .ok_or("the picture has no area")?;
+        .context("the picture has no area")?;
     resvg::render(
         &tree,
         resvg::tiny_skia::Transform::default(),
         &mut pixmap.as_mut(),
     );
-    pixmap.encode_png().map_err(|e| format!("png: {e}"))
+    pixmap.encode_png().context("png")
 }
 
 /// Write `NAME.svg` and `NAME.png` into `dir`.
-pub fn write_both(dir: &std::path::Path, name: &str, svg: &str) -> Result<(), String> {
+pub fn write_both(dir: &std::path::Path, name: &str, svg: &str) -> anyhow::Result<()> {
     let write = |file: String, bytes: &[u8]| {
         let path = dir.join(file);
-        std::fs::write(&path, bytes).map_err(|e| format!("cannot write {}: {e}", path.display()))
+        std::fs::write(&path, bytes).with_context(|| format!("cannot write {}", path.display()))
     };
     write(format!("{name}.svg"), svg.as_bytes())?;
     let fonts = system_fonts();

@@ -2,6 +2,7 @@
 //! through a game, in self-play (held-out episodes) and with other partners.
 
 use crate::plots::{self, Series};
+use anyhow::{anyhow, Context};
 use std::fmt::Write as _;
 use std::path::PathBuf;
 use yokai_train::probe::{evaluate, fit, record, StepAccuracy};
@@ -39,28 +40,28 @@ struct Curve {
 /// Steps with fewer rows than this are left out of the curves.
 const MIN_ROWS: usize = 20;
 
-pub fn run(args: Args) -> Result<(), String> {
+pub fn run(args: Args) -> anyhow::Result<()> {
     if args.games < 50 {
-        return Err(format!(
+        return Err(anyhow!(
             "--games {} is too few: the held-out fifth of the self-play games must give each \
              game step at least {MIN_ROWS} seat states (use 50 or more)",
             args.games
         ));
     }
-    let load = |path: &PathBuf| TrainedPolicy::load(path).map_err(|e| e.to_string());
+    let load = |path: &PathBuf| TrainedPolicy::load(path).map_err(anyhow::Error::from);
     let runs: Vec<TrainedPolicy> = args.runs.iter().map(load).collect::<Result<_, _>>()?;
     let partners: Vec<TrainedPolicy> = args.partners.iter().map(load).collect::<Result<_, _>>()?;
     // One game for every run and partner: one chance level, one plot.
     let game = *runs[0].game();
     if game.players() != 2 {
-        return Err(format!(
+        return Err(anyhow!(
             "{}: probes are built for 2-player games (its game has {} players)",
             args.runs[0].display(),
             game.players()
         ));
     }
     for policy in runs.iter().chain(&partners) {
-        policy.check_game(&game).map_err(|e| e.to_string())?;
+        policy.check_game(&game)?;
     }
     let mut curves = Vec::new();
     for (policy, path) in runs.iter().zip(&args.runs) {
@@ -103,7 +104,7 @@ pub fn run(args: Args) -> Result<(), String> {
         }
     }
     std::fs::create_dir_all(&args.out)
-        .map_err(|e| format!("cannot create {}: {e}", args.out.display()))?;
+        .with_context(|| format!("cannot create {}", args.out.display()))?;
     let chance = 1.0 / game.colours() as f64;
     let mut csv_rows = Vec::new();
     let mut json = Vec::new();
@@ -185,7 +186,7 @@ pub fn run(args: Args) -> Result<(), String> {
     });
     let write = |name: &str, text: &str| {
         let path = args.out.join(name);
-        std::fs::write(&path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))
+        std::fs::write(&path, text).with_context(|| format!("cannot write {}", path.display()))
     };
     let header = [
         "run", "setting", "step", "cards", "accuracy", "oracle", "rows",

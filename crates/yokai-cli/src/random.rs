@@ -1,5 +1,6 @@
 //! `yokai random`: random legal play, the reference point every learned policy must beat.
 
+use anyhow::bail;
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 use yokai_agents::{Policy, RandomPolicy};
@@ -40,10 +41,10 @@ fn play_one(config: Config, seed: u64, never_end: bool) -> Outcome {
     game.outcome().expect("the game is over")
 }
 
-pub fn run(args: Args) -> Result<(), String> {
-    let config = Config::resolve(&args.config).map_err(|e| e.to_string())?;
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let config = Config::resolve(&args.config)?;
     if args.games == 0 {
-        return Err("--games must be at least 1".into());
+        bail!("--games must be at least 1");
     }
     let bar = ProgressBar::new(args.games).with_style(
         ProgressStyle::with_template(

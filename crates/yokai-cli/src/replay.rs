@@ -2,6 +2,7 @@
 //! an SVG or PNG picture.
 
 use crate::svg::render_turn;
+use anyhow::{bail, Context};
 use std::io::{BufRead, IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use yokai_engine::{render_seat, render_truth, Action, Game, Replay, Seat};
@@ -22,10 +23,10 @@ pub struct Args {
     png: Option<PathBuf>,
 }
 
-pub fn read(path: &Path) -> Result<Replay, String> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
-    Replay::from_jsonl(&text).map_err(|e| format!("{}: {e}", path.display()))
+pub fn read(path: &Path) -> anyhow::Result<Replay> {
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+    Replay::from_jsonl(&text).with_context(|| format!("{}", path.display()))
 }
 
 /// A state of the game and, unless it is the last one, who acted in it and how.
@@ -33,23 +34,20 @@ type State = (Game, Option<(Seat, Action)>);
 
 /// Every state of the game (before each action, then the end) with the seat to act and
 /// the action it took.
-fn states(replay: &Replay) -> Result<Vec<State>, String> {
+fn states(replay: &Replay) -> anyhow::Result<Vec<State>> {
     let mut out = Vec::new();
-    let last = replay
-        .record()
-        .replay_with(|before, action, _| {
-            out.push((before.clone(), Some((before.current_seat(), action))));
-        })
-        .map_err(|e| e.to_string())?;
+    let last = replay.record().replay_with(|before, action, _| {
+        out.push((before.clone(), Some((before.current_seat(), action))));
+    })?;
     out.push((last, None));
     Ok(out)
 }
 
-pub fn run(args: Args) -> Result<(), String> {
+pub fn run(args: Args) -> anyhow::Result<()> {
     let replay = read(&args.file)?;
     let config = replay.header.config;
     if args.seat as usize >= config.players() {
-        return Err(format!("--seat {} does not exist in {config}", args.seat));
+        bail!("--seat {} does not exist in {config}", args.seat);
     }
     let seat = Seat(args.seat);
     let states = states(&replay)?;
@@ -66,8 +64,7 @@ pub fn run(args: Args) -> Result<(), String> {
         .collect();
     let pictures = !dirs.is_empty();
     for (dir, _) in &dirs {
-        std::fs::create_dir_all(dir)
-            .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+        std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
     }
     let fonts = args.png.is_some().then(crate::plots::system_fonts);
     for (i, (game, action)) in states.iter().enumerate() {
@@ -82,7 +79,7 @@ pub fn run(args: Args) -> Result<(), String> {
                 _ => svg.clone().into_bytes(),
             };
             std::fs::write(&path, bytes)
-                .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+                .with_context(|| format!("cannot write {}", path.display()))?;
         }
     }
     for (dir, kind) in &dirs {
@@ -120,12 +117,12 @@ pub fn run(args: Args) -> Result<(), String> {
                 },
             )
         );
-        out.write_all(text.as_bytes()).map_err(|e| e.to_string())?;
+        out.write_all(text.as_bytes())?;
         if interactive && i + 1 < states.len() {
             print!("[Enter: next step, q: quit] ");
-            out.flush().map_err(|e| e.to_string())?;
+            out.flush()?;
             let mut line = String::new();
-            input.read_line(&mut line).map_err(|e| e.to_string())?;
+            input.read_line(&mut line)?;
             if line.trim() == "q" {
                 break;
             }

@@ -12,8 +12,8 @@ pub struct Args {
     seed: u64,
 }
 
-pub fn run(args: Args) -> Result<(), String> {
-    let config = Config::resolve(&args.config).map_err(|e| e.to_string())?;
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let config = Config::resolve(&args.config)?;
     let game = Game::new(config, args.seed);
     print!("{}", yokai_engine::render_truth(&game));
     Ok(())

@@ -4,6 +4,7 @@
 //! (`yokai_engine::reference`). A long soak (10⁹ steps) is how the engine earns trust beyond
 //! its tests; docs/reliability.md reports the runs.
 
+use anyhow::{anyhow, bail, Context};
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 use std::collections::BTreeSet;
@@ -33,7 +34,7 @@ pub struct Args {
     threads: Option<usize>,
 }
 
-fn parse_steps(text: &str) -> Result<u64, String> {
+fn parse_steps(text: &str) -> anyhow::Result<u64> {
     let clean = text.replace('_', "");
     clean
         .parse::<u64>()
@@ -45,7 +46,7 @@ fn parse_steps(text: &str) -> Result<u64, String> {
                 .filter(|x| x.is_finite() && *x >= 1.0)
                 .map(|x| x as u64)
         })
-        .ok_or_else(|| format!("`{text}` is not a number of steps"))
+        .ok_or_else(|| anyhow!("`{text}` is not a number of steps"))
 }
 
 /// What a soak found, per config and in all.
@@ -56,10 +57,10 @@ struct Tally {
     replayed: u64,
 }
 
-pub fn run(args: Args) -> Result<(), String> {
+pub fn run(args: Args) -> anyhow::Result<()> {
     let configs = Config::presets();
     if args.envs == 0 || args.sample == 0 {
-        return Err("--envs and --sample must be at least 1".into());
+        bail!("--envs and --sample must be at least 1");
     }
     let per_config = args.steps / configs.len() as u64;
     let bar = ProgressBar::new(per_config * configs.len() as u64).with_style(
@@ -73,7 +74,7 @@ pub fn run(args: Args) -> Result<(), String> {
         bar.set_message(config.to_string());
         let seed = args.seed.wrapping_add(k as u64);
         let tally = soak_config(config, &args, seed, per_config, &bar)
-            .map_err(|e| format!("{config}: {e}"))?;
+            .with_context(|| format!("{config}"))?;
         println!(
             "{config}: {} steps, {} games, {} replayed against the reference: no violation",
             tally.steps, tally.games, tally.replayed
@@ -102,12 +103,12 @@ fn soak_config(
     seed: u64,
     steps: u64,
     bar: &ProgressBar,
-) -> Result<Tally, String> {
+) -> anyhow::Result<Tally> {
     let n = args.envs;
     let mut options = VecEnvOptions::new(n, seed);
     options.encoding = Encoding::None;
     options.threads = args.threads;
-    let mut env = VecEnv::<u8>::new(config, options).map_err(|e| e.to_string())?;
+    let mut env = VecEnv::<u8>::new(config, options)?;
     let (p, na) = (config.players(), config.num_actions());
     let mut actions = vec![0u32; n];
     let mut histories: Vec<Vec<u32>> = vec![Vec::new(); n];
@@ -123,16 +124,16 @@ fn soak_config(
                 let legal = row.iter().filter(|&&m| m == 1).count();
                 if s == acting {
                     if legal == 0 {
-                        return Err(format!("env {i}: the acting seat {s} has no legal action"));
+                        bail!("env {i}: the acting seat {s} has no legal action");
                     }
                 } else if legal != 1 || row[0] != 1 {
-                    return Err(format!("env {i}: waiting seat {s} may play more than NOOP"));
+                    bail!("env {i}: waiting seat {s} may play more than NOOP");
                 }
             }
         }
         env.sample_legal(seed.wrapping_add(t).wrapping_mul(0x9E37_79B9), &mut actions);
         t += 1;
-        env.step(&actions).map_err(|e| e.to_string())?;
+        env.step(&actions)?;
         tally.steps += n as u64;
         for i in 0..n {
             histories[i].push(actions[i]);
@@ -141,21 +142,21 @@ fn soak_config(
                 let actions_of_game = std::mem::take(&mut histories[i]);
                 if tally.games % args.sample == 0 {
                     let episode = env.episodes(i) - 1;
-                    let outcome = env.outcomes()[i].ok_or("a finished game without outcome")?;
+                    let outcome = env.outcomes()[i].context("a finished game without outcome")?;
                     replay_against_reference(
                         config,
                         episode_seed(seed, i, episode),
                         &actions_of_game,
                         outcome.reward,
                     )
-                    .map_err(|e| format!("env {i} episode {episode}: {e}"))?;
+                    .with_context(|| format!("env {i} episode {episode}"))?;
                     tally.replayed += 1;
                 }
             }
         }
         let env_ref = &env;
         (0..n).into_par_iter().try_for_each(|i| {
-            check_invariants(env_ref.game(i)).map_err(|e| format!("env {i}: {e}"))
+            check_invariants(env_ref.game(i)).with_context(|| format!("env {i}"))
         })?;
         bar.inc(n as u64);
     }
@@ -164,7 +165,7 @@ fn soak_config(
 
 /// What every state of every game must satisfy (RULES §1, §2, §4), connectivity by the
 /// reference's breadth-first search over plain cells.
-fn check_invariants(game: &Game) -> Result<(), String> {
+fn check_invariants(game: &Game) -> anyhow::Result<()> {
     let config = game.config();
     let y = config.cards();
     let cells: BTreeSet<(i32, i32)> = (0..y)
@@ -174,10 +175,10 @@ fn check_invariants(game: &Game) -> Result<(), String> {
         })
         .collect();
     if cells.len() != y {
-        return Err("two cards share a cell".into());
+        bail!("two cards share a cell");
     }
     if !connected(&cells) {
-        return Err("the cards are not one 4-connected group".into());
+        bail!("the cards are not one 4-connected group");
     }
     let mut per_colour = [0usize; yokai_engine::MAX_COLOURS];
     for k in 0..y {
@@ -187,7 +188,7 @@ fn check_invariants(game: &Game) -> Result<(), String> {
         .iter()
         .any(|&count| count != config.cards_per_colour())
     {
-        return Err(format!(
+        return Err(anyhow!(
             "colour counts {:?}",
             &per_colour[..config.colours()]
         ));
@@ -198,13 +199,13 @@ fn check_invariants(game: &Game) -> Result<(), String> {
         if game.hint_card(slot).is_some() {
             placed += 1;
             if game.revealed_hint(slot).is_none() {
-                return Err(format!("hint {h} placed without being revealed"));
+                bail!("hint {h} placed without being revealed");
             }
         }
     }
     let hinted = (0..y).filter(|&k| game.is_hinted(Card(k as u8))).count();
     if placed != hinted {
-        return Err(format!("{placed} hints placed but {hinted} cards hinted"));
+        bail!("{placed} hints placed but {hinted} cards hinted");
     }
     Ok(())
 }
@@ -217,7 +218,7 @@ fn replay_against_reference(
     deal_seed: u64,
     actions: &[u32],
     reported: i32,
-) -> Result<(), String> {
+) -> anyhow::Result<()> {
     let mut game = Game::new(config, deal_seed);
     for (step, &index) in actions.iter().enumerate() {
         if game.substep() == Substep::Move {
@@ -231,20 +232,20 @@ fn replay_against_reference(
                 })
                 .collect();
             if engine != reference_moves(&game) {
-                return Err(format!(
+                return Err(anyhow!(
                     "step {step}: legal moves differ from the reference"
                 ));
             }
         }
         game.apply_index(index as usize)
-            .map_err(|e| format!("step {step}: {e}"))?;
+            .with_context(|| format!("step {step}"))?;
     }
     if !game.is_over() {
-        return Err("the replayed game did not finish".into());
+        bail!("the replayed game did not finish");
     }
     let reference = reference_reward(&game);
     if reference != reported {
-        return Err(format!(
+        return Err(anyhow!(
             "reward {reported} reported, the reference says {reference}"
         ));
     }
@@ -278,9 +279,9 @@ mod tests {
         let reward = game.outcome().unwrap().reward;
         replay_against_reference(config, 4, &actions, reward).unwrap();
         let e = replay_against_reference(config, 4, &actions, reward + 1).unwrap_err();
-        assert!(e.contains("the reference says"), "{e}");
+        assert!(e.to_string().contains("the reference says"), "{e}");
         let e =
             replay_against_reference(config, 4, &actions[..actions.len() - 1], reward).unwrap_err();
-        assert!(e.contains("did not finish"), "{e}");
+        assert!(e.to_string().contains("did not finish"), "{e}");
     }
 }

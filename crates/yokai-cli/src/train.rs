@@ -1,6 +1,7 @@
 //! `yokai train`: train seeds of a config, then evaluate them against each other.
 
 use crate::eval::{evaluate, save_replays, summarise_groups, write_outputs, Entry};
+use anyhow::{anyhow, bail};
 use indicatif::{MultiProgress, ProgressBar, ProgressStyle};
 use std::collections::VecDeque;
 use std::path::{Path, PathBuf};
@@ -92,13 +93,13 @@ pub struct Args {
 }
 
 /// Parse `0..3`, `0,4,7` or `5`.
-pub fn parse_seeds(text: &str) -> Result<Vec<u64>, String> {
-    let bad = || format!("--seeds `{text}` is not `A..B`, a comma-separated list or a number");
+pub fn parse_seeds(text: &str) -> anyhow::Result<Vec<u64>> {
+    let bad = || anyhow!("--seeds `{text}` is not `A..B`, a comma-separated list or a number");
     if let Some((a, b)) = text.split_once("..") {
         let a: u64 = a.trim().parse().map_err(|_| bad())?;
         let b: u64 = b.trim().parse().map_err(|_| bad())?;
         if b <= a {
-            return Err(format!("--seeds `{text}` is empty (A..B excludes B)"));
+            bail!("--seeds `{text}` is empty (A..B excludes B)");
         }
         return Ok((a..b).collect());
     }
@@ -107,28 +108,27 @@ pub fn parse_seeds(text: &str) -> Result<Vec<u64>, String> {
         .collect()
 }
 
-fn load_config(name: &str) -> Result<(TrainConfig, String), String> {
+fn load_config(name: &str) -> anyhow::Result<(TrainConfig, String)> {
     if let Some((preset, text)) = PRESETS.iter().find(|(n, _)| *n == name) {
-        let config = TrainConfig::from_toml_str(text, &format!("configs/{preset}.toml"))
-            .map_err(|e| e.to_string())?;
+        let config = TrainConfig::from_toml_str(text, &format!("configs/{preset}.toml"))?;
         return Ok((config, preset.to_string()));
     }
     let path = Path::new(name);
     if !path.exists() {
         let names: Vec<&str> = PRESETS.iter().map(|(n, _)| *n).collect();
-        return Err(format!(
+        return Err(anyhow!(
             "no training config `{name}`: not a preset ({}) and no such file",
             names.join(", ")
         ));
     }
-    let config = TrainConfig::from_file(path).map_err(|e| e.to_string())?;
+    let config = TrainConfig::from_file(path)?;
     let stem = path
         .file_stem()
         .map_or("run".into(), |s| s.to_string_lossy().to_string());
     Ok((config, stem))
 }
 
-pub fn run(args: Args) -> Result<(), String> {
+pub fn run(args: Args) -> anyhow::Result<()> {
     let seeds = parse_seeds(&args.seeds)?;
     let (mut config, name) = load_config(&args.config)?;
     if let Some(steps) = args.steps {
@@ -137,7 +137,7 @@ pub fn run(args: Args) -> Result<(), String> {
     if let Some(from) = &args.init_from {
         config.run.init_from = Some(from.clone());
     }
-    config.validate("config").map_err(|e| e.to_string())?;
+    config.validate("config")?;
     let out = args
         .out
         .clone()
@@ -146,15 +146,16 @@ pub fn run(args: Args) -> Result<(), String> {
         return train_and_evaluate(&args, &config, &name, &seeds, &out);
     };
     if config.obl.level == 0 {
-        return Err(format!(
+        return Err(anyhow!(
             "--levels trains Off-Belief Learning levels, but {name} is not an OBL config \
              (its obl.level is 0; try obl-quick)"
         ));
     }
     // Levels count from 1: parse them as seeds are parsed, then check.
-    let levels = parse_seeds(levels).map_err(|e| e.replace("--seeds", "--levels"))?;
+    let levels =
+        parse_seeds(levels).map_err(|e| anyhow!(e.to_string().replace("--seeds", "--levels")))?;
     if levels.contains(&0) {
-        return Err("--levels counts from 1 (level 0 is random play)".into());
+        bail!("--levels counts from 1 (level 0 is random play)");
     }
     for level in levels {
         let mut c = config.clone();
@@ -166,7 +167,7 @@ pub fn run(args: Args) -> Result<(), String> {
             c.obl.previous = Some(below.clone());
             c.run.init_from = Some(below);
         }
-        c.validate("config").map_err(|e| e.to_string())?;
+        c.validate("config")?;
         let dir = out.join(format!("level-{level}"));
         train_and_evaluate(&args, &c, &format!("{name} level {level}"), &seeds, &dir)?;
     }
@@ -180,8 +181,8 @@ fn train_and_evaluate(
     name: &str,
     seeds: &[u64],
     out: &Path,
-) -> Result<(), String> {
-    let game = config.game_config().map_err(|e| e.to_string())?;
+) -> anyhow::Result<()> {
+    let game = config.game_config()?;
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let threads = args.threads.unwrap_or(cores).max(1);
     // By default every seed at once, up to two per thread: a compact run keeps about one
@@ -216,7 +217,7 @@ fn train_and_evaluate(
                 {
                     Ok(pool) => pool,
                     Err(e) => {
-                        let e = Err(format!("could not start threads: {e}"));
+                        let e = Err(anyhow!("could not start threads: {e}"));
                         finished.lock().expect("no panic").push((u64::MAX, e));
                         return;
                     }
@@ -255,7 +256,7 @@ fn train_and_evaluate(
     }
     let mut entries = Vec::new();
     for dir in &dirs {
-        let p = TrainedPolicy::load(dir).map_err(|e| e.to_string())?;
+        let p = TrainedPolicy::load(dir)?;
         entries.push(Entry::Trained(Box::new(p)));
     }
     entries.push(Entry::Builtin(PolicySpec::Random));
@@ -296,11 +297,11 @@ struct SeedJob<'a> {
 
 impl SeedJob<'_> {
     /// Train (or resume) one seed's run with a progress bar; its directory when it is done.
-    fn train(&self, seed: u64) -> Result<PathBuf, String> {
+    fn train(&self, seed: u64) -> anyhow::Result<PathBuf> {
         let args = self.args;
         let dir = self.out.join(format!("seed-{seed}"));
         let mut run_config = if args.resume {
-            let mut c = checkpoint_config(&dir).map_err(|e| e.to_string())?;
+            let mut c = checkpoint_config(&dir)?;
             if let Some(steps) = args.steps {
                 c.ppo.total_steps = steps;
             }
@@ -339,8 +340,7 @@ impl SeedJob<'_> {
                 "| {} steps | {:.0} SPS | R {r} | H {:.2}",
                 s.env_steps, s.sps, s.entropy
             ));
-        })
-        .map_err(|e| e.to_string())?;
+        })?;
         bar.finish_and_clear();
         self.progress.remove(&bar);
         let last = summary.last.as_ref();

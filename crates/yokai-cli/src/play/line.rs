@@ -2,6 +2,7 @@
 //! dumb terminals. Type the number of an action or its name (`observe card 4`).
 
 use super::session::{Key, Session};
+use anyhow::{anyhow, bail, Context};
 use std::io::{BufRead, Write};
 use yokai_engine::{render_seat, render_truth, Action};
 
@@ -9,15 +10,13 @@ pub fn run(
     session: &mut Session,
     input: &mut dyn BufRead,
     out: &mut dyn Write,
-) -> Result<(), String> {
-    let io = |e: std::io::Error| format!("cannot write to the terminal: {e}");
+) -> anyhow::Result<()> {
+    let io = |e: std::io::Error| anyhow!(e).context("cannot write to the terminal");
     let mut shown_log = 0;
     let mut line = String::new();
-    let mut read = |line: &mut String| -> Result<bool, String> {
+    let mut read = |line: &mut String| -> anyhow::Result<bool> {
         line.clear();
-        let n = input
-            .read_line(line)
-            .map_err(|e| format!("cannot read input: {e}"))?;
+        let n = input.read_line(line).context("cannot read input")?;
         Ok(n > 0)
     };
     loop {
@@ -44,7 +43,7 @@ pub fn run(
             return Ok(());
         }
         let Some(seat) = session.human_to_act() else {
-            return Err("no human seat is to act".into());
+            bail!("no human seat is to act");
         };
         if session.curtain() {
             writeln!(
@@ -54,7 +53,7 @@ pub fn run(
             .map_err(io)?;
             out.flush().map_err(io)?;
             if !read(&mut line)? {
-                return Err("input ended before the game finished".into());
+                bail!("input ended before the game finished");
             }
             session.handle(Key::Enter)?;
             continue;
@@ -68,24 +67,24 @@ pub fn run(
             write!(out, "{seat}> ").map_err(io)?;
             out.flush().map_err(io)?;
             if !read(&mut line)? {
-                return Err("input ended before the game finished".into());
+                bail!("input ended before the game finished");
             }
             let text = line.trim();
             if text.is_empty() {
                 continue;
             }
             if text == "q" || text == "quit" {
-                return Err("quit before the game finished".into());
+                bail!("quit before the game finished");
             }
             let action = match text.parse::<usize>() {
                 Ok(i) if i < legal.len() => Ok(legal[i]),
-                Ok(i) => Err(format!(
+                Ok(i) => Err(anyhow!(
                     "{i} is not one of the listed numbers (0..{})",
                     legal.len()
                 )),
                 Err(_) => text
                     .parse::<Action>()
-                    .map_err(|e| format!("{e}; type a listed number or an action's name")),
+                    .map_err(|e| anyhow!("{e}; type a listed number or an action's name")),
             };
             match action.and_then(|a| session.choose(a)) {
                 Ok(()) => break,

@@ -5,6 +5,7 @@ pub mod session;
 pub mod tui;
 
 use crate::eval::Entry;
+use anyhow::{anyhow, Context};
 use session::{Player, Session};
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -35,8 +36,8 @@ pub struct Args {
     save: Option<PathBuf>,
 }
 
-pub fn run(args: Args) -> Result<(), String> {
-    let config = Config::resolve(&args.config).map_err(|e| e.to_string())?;
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let config = Config::resolve(&args.config)?;
     let mut names: Vec<String> = args
         .seats
         .split(',')
@@ -44,7 +45,7 @@ pub fn run(args: Args) -> Result<(), String> {
         .filter(|s| !s.is_empty())
         .collect();
     if names.len() > config.players() {
-        return Err(format!(
+        return Err(anyhow!(
             "{} seats given, but {config} has {}",
             names.len(),
             config.players()
@@ -89,7 +90,7 @@ pub fn run(args: Args) -> Result<(), String> {
     }
     if let Some(path) = args.save {
         std::fs::write(&path, session.replay().to_jsonl())
-            .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+            .with_context(|| format!("cannot write {}", path.display()))?;
         eprintln!("saved the replay to {}", path.display());
     }
     Ok(())

@@ -2,6 +2,7 @@
 //! in, actions out. The TUI and the line mode are thin front ends over it, and tests drive
 //! it directly.
 
+use anyhow::{anyhow, bail};
 use yokai_agents::Policy;
 use yokai_engine::{derive_seed, Action, Config, Game, RecordedGame, Replay, Seat};
 
@@ -59,9 +60,9 @@ impl Session {
         config: Config,
         seed: u64,
         players: Vec<(String, Player)>,
-    ) -> Result<Session, String> {
+    ) -> anyhow::Result<Session> {
         if players.len() != config.players() {
-            return Err(format!(
+            return Err(anyhow!(
                 "{config} has {} seats, but {} players were given",
                 config.players(),
                 players.len()
@@ -134,7 +135,7 @@ impl Session {
     }
 
     /// Decode one key.
-    pub fn handle(&mut self, key: Key) -> Result<Effect, String> {
+    pub fn handle(&mut self, key: Key) -> anyhow::Result<Effect> {
         if matches!(key, Key::Char('q') | Key::Esc) {
             return Ok(Effect::Quit);
         }
@@ -179,7 +180,7 @@ impl Session {
 
     /// A mouse click on legal action `index`: the first click selects it, a click on the
     /// selected action plays it.
-    pub fn click(&mut self, index: usize) -> Result<Effect, String> {
+    pub fn click(&mut self, index: usize) -> anyhow::Result<Effect> {
         if self.curtain || index >= self.legal().len() {
             return Ok(Effect::Nothing);
         }
@@ -192,20 +193,20 @@ impl Session {
 
     /// Play `action` for the acting human; anything not legal for them is refused with the
     /// rules' reason, and nothing changes.
-    pub fn choose(&mut self, action: Action) -> Result<(), String> {
+    pub fn choose(&mut self, action: Action) -> anyhow::Result<()> {
         let Some(seat) = self.human_to_act() else {
             return Err(if self.is_over() {
-                "the game is over".into()
+                anyhow!("the game is over")
             } else {
-                "it is not a human's turn".into()
+                anyhow!("it is not a human's turn")
             });
         };
         if self.curtain {
-            return Err("the board is hidden: the next player must reveal it first".into());
+            bail!("the board is hidden: the next player must reveal it first");
         }
         self.game()
             .check(seat, action)
-            .map_err(|reason| format!("`{action}` is not legal now: {reason}"))?;
+            .map_err(|reason| anyhow!("`{action}` is not legal now: {reason}"))?;
         self.last_human = Some(seat);
         self.apply(seat, action);
         self.run_bots()
@@ -225,7 +226,7 @@ impl Session {
 
     /// Let bots play until a human must act or the game ends; then drop the curtain if a
     /// different human than the last one is to act.
-    fn run_bots(&mut self) -> Result<(), String> {
+    fn run_bots(&mut self) -> anyhow::Result<()> {
         while !self.is_over() {
             let seat = self.game().current_seat();
             let Player::Bot(bot) = &mut self.players[seat.index()] else {
@@ -233,7 +234,7 @@ impl Session {
             };
             let action = bot.act(&self.game.game().view(seat));
             if let Err(reason) = self.game().check(seat, action) {
-                return Err(format!(
+                return Err(anyhow!(
                     "policy `{}` at {seat} chose `{action}`: {reason}",
                     self.names[seat.index()]
                 ));
@@ -293,7 +294,7 @@ mod tests {
             .find(|a| !s.legal().contains(a))
             .unwrap();
         let e = s.choose(illegal).unwrap_err();
-        assert!(e.contains("is not legal now"), "{e}");
+        assert!(e.to_string().contains("is not legal now"), "{e}");
         assert_eq!(s.game().steps(), steps);
         // A click selects; a click on the selected action plays it; beyond the list, nothing.
         let legal = s.legal();

@@ -2,6 +2,7 @@
 //! lives in [`Session`]; this file only draws it and turns terminal events into keys.
 
 use super::session::{Effect, Key, Session};
+use anyhow::Context;
 use ratatui::crossterm::event::{
     self, DisableMouseCapture, EnableMouseCapture, Event, KeyCode, KeyEventKind, MouseButton,
     MouseEventKind,
@@ -14,7 +15,7 @@ use ratatui::widgets::{Block, Borders, List, ListItem, ListState, Paragraph, Wra
 use ratatui::Frame;
 use yokai_engine::{Cell, Colour, Game, HintSlot, Phase, Seat};
 
-pub fn run(session: &mut Session, color: bool) -> Result<(), String> {
+pub fn run(session: &mut Session, color: bool) -> anyhow::Result<()> {
     let mut terminal = ratatui::init();
     let _ = execute!(std::io::stdout(), EnableMouseCapture);
     let result = event_loop(&mut terminal, session, color);
@@ -27,15 +28,15 @@ fn event_loop(
     terminal: &mut ratatui::DefaultTerminal,
     session: &mut Session,
     color: bool,
-) -> Result<(), String> {
+) -> anyhow::Result<()> {
     let mut message = String::new();
     // Where the action list was drawn and its first visible item, to map mouse clicks.
     let mut list = (Rect::default(), 0usize);
     loop {
         terminal
             .draw(|f| list = draw(f, session, color, &message))
-            .map_err(|e| format!("cannot draw: {e}"))?;
-        let key = match event::read().map_err(|e| format!("cannot read the terminal: {e}"))? {
+            .context("cannot draw")?;
+        let key = match event::read().context("cannot read the terminal")? {
             Event::Key(k) if k.kind == KeyEventKind::Press => match k.code {
                 KeyCode::Up => Key::Up,
                 KeyCode::Down => Key::Down,
@@ -59,7 +60,7 @@ fn event_loop(
                         let index = offset + (m.row - area.y - 1) as usize;
                         match session.click(index) {
                             Ok(_) => message.clear(),
-                            Err(e) => message = e,
+                            Err(e) => message = e.to_string(),
                         }
                     }
                     continue;
@@ -74,7 +75,7 @@ fn event_loop(
         match session.handle(key) {
             Ok(Effect::Quit) => return Ok(()),
             Ok(_) => message.clear(),
-            Err(e) => message = e,
+            Err(e) => message = e.to_string(),
         }
     }
 }
