@@ -106,3 +106,16 @@ impl PyAgent {
         format!("Agent({:?})", self.name.clone())
     }
 }
+
+/// Every parameter of the trained network at ``path`` (policy file, checkpoint or run
+/// directory), flattened in the network's order as float32: to check that two runs trained
+/// the same network (the files themselves also hold per-process parameter ids).
+#[pyfunction]
+pub fn policy_parameters<'py>(
+    py: Python<'py>,
+    path: &str,
+) -> PyResult<Bound<'py, numpy::PyArray1<f32>>> {
+    use numpy::IntoPyArray;
+    let policy = TrainedPolicy::load(Path::new(path)).map_err(config_error)?;
+    Ok(policy.parameters().into_pyarray(py))
+}

@@ -21,6 +21,7 @@ from ._core import (
     __version__,
     configs,
     episode_seed,
+    policy_parameters,
     probe_accuracy,
     probe_records,
 )
@@ -35,6 +36,7 @@ __all__ = [
     "__version__",
     "configs",
     "episode_seed",
+    "policy_parameters",
     "probe_accuracy",
     "probe_records",
 ]

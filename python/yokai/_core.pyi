@@ -28,6 +28,9 @@ def episode_seed(seed: int, env: int, episode: int) -> int:
 def configs() -> list[str]:
     """Names of the built-in configurations (e.g. ``"9c-2p-perfect"``)."""
 
+def policy_parameters(path: str) -> np.ndarray:
+    """Every parameter of the trained network at ``path``, flattened (float32)."""
+
 def probe_records(
     policies: list[str], probed: list[bool] | None = None, games: int = 500, seed: int = 0
 ) -> dict[str, np.ndarray]:

@@ -1,0 +1,111 @@
+"""`python -m yokai.sweep` on a local Ray cluster of 2 CPUs: a 3-seed sweep runs to the end,
+a seed whose Ray worker is killed mid-run resumes from its checkpoint and ends with the
+parameters of an uninterrupted run, a second start skips finished seeds, and the sweep
+evaluates its seeds."""
+
+import json
+import os
+import pathlib
+import re
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pytest
+
+import yokai
+from test_trained import BINARY, TINY
+
+pytest.importorskip("ray")
+from yokai import sweep  # noqa: E402
+
+# Long enough (400 updates of 64 steps) to be killed mid-run; a checkpoint every 5 updates.
+SWEEP_TINY = TINY.replace("total_steps = 128", "total_steps = 25_600") + "[run]\ncheckpoint_every = 5\n"
+
+
+def test_seeds_and_sweep_files_parse(tmp_path):
+    assert sweep.parse_seeds("0..3") == (0, 1, 2)
+    assert sweep.parse_seeds("4, 7") == (4, 7)
+    with pytest.raises(ValueError, match="empty"):
+        sweep.parse_seeds("3..3")
+    with pytest.raises(ValueError, match="not A..B"):
+        sweep.parse_seeds("a..b")
+    spec = tmp_path / "paper.toml"
+    spec.write_text('seeds = "0..2"\n[[row]]\nconfig = "ippo-9c-2p"\n[[row]]\nconfig = "op-9c-2p"\nseeds = "5"\nout = "x/op"\n')
+    args = sweep.main.__globals__["argparse"].Namespace(sweep=str(spec), out="runs", configs=[], seeds="0..3")
+    rows = sweep.rows_from_args(args)
+    assert rows == [
+        sweep.Row("ippo-9c-2p", (0, 1), pathlib.Path("runs/ippo-9c-2p")),
+        sweep.Row("op-9c-2p", (5,), pathlib.Path("x/op")),
+    ]
+    # The shipped sweep files name shipped presets.
+    root = pathlib.Path(__file__).resolve().parents[2]
+    for shipped in (root / "sweeps").glob("*.toml"):
+        args.sweep = str(shipped)
+        for row in sweep.rows_from_args(args):
+            assert (root / "configs" / f"{row.config}.toml").exists(), (shipped, row)
+            assert len(row.seeds) == 12
+    args.sweep = str(spec)
+    spec.write_text('[[row]]\nconfig = "quick"\nseed = "1"\n')
+    with pytest.raises(ValueError, match="row 1 needs config"):
+        sweep.rows_from_args(args)
+
+
+def _sweep(config, out, *more):
+    return subprocess.Popen(
+        [sys.executable, "-m", "yokai.sweep", str(config), "--seeds", "0..3", "--out", str(out),
+         "--num-cpus", "2", "--eval-games", "20", "--yokai", str(BINARY), *more],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+    )
+
+
+def test_a_killed_seed_resumes_from_its_checkpoint_and_the_sweep_evaluates(tmp_path):
+    if not BINARY.exists():
+        pytest.skip("needs the yokai binary: scripts/test.sh builds it before pytest")
+    config = tmp_path / "tiny.toml"
+    config.write_text(SWEEP_TINY)
+    out = tmp_path / "runs"
+    proc = _sweep(config, out)
+    # Kill seed 1's Ray worker once it has checkpointed at least twice, while it trains.
+    run = out / "seed-1"
+    deadline = time.time() + 300
+    killed_at = None
+    while time.time() < deadline and proc.poll() is None:
+        metrics = run / "metrics.jsonl"
+        if (run / ".sweep-worker").exists() and metrics.exists():
+            lines = metrics.read_text().splitlines()
+            if len(lines) >= 12 and not (run / sweep.DONE).exists():
+                killed_at = len(lines)
+                os.kill(int((run / ".sweep-worker").read_text()), signal.SIGKILL)
+                break
+        time.sleep(0.02)
+    assert killed_at is not None, "seed 1 finished before it could be killed"
+    stdout, stderr = proc.communicate(timeout=600)
+    assert proc.returncode == 0, stderr
+    for seed in range(3):
+        assert f"seed {seed}:" in stdout
+    # Two attempts: the first killed, the second resumed from a checkpoint (a multiple of
+    # 5 updates) taken before the kill, not from the start.
+    attempts = (run / sweep.ATTEMPTS).read_text().splitlines()
+    # Each line: date, time, "pid N", what happened.
+    assert [a.split(" ", 4)[4].split(":")[0] for a in attempts] == [
+        "starts", "resumes from its checkpoint", "done"], attempts
+    done = re.search(r"400 updates, 25600 env steps \((\d+) now", attempts[-1])
+    assert done, attempts
+    resumed_from = 400 - int(done.group(1)) // 64
+    assert resumed_from % 5 == 0 and 10 <= resumed_from <= killed_at, (attempts, killed_at)
+    # The resumed seed equals a run of the same seed without a stop.
+    whole = tmp_path / "whole"
+    subprocess.run([str(BINARY), "train", str(config), "--seeds", "1", "--out", str(whole),
+                    "--threads", "1", "--eval-games", "0"], check=True, capture_output=True)
+    assert np.array_equal(yokai.policy_parameters(str(run)), yokai.policy_parameters(str(whole / "seed-1")))
+    # Evaluated: every seed in self-play and cross-play.
+    matrix = json.loads((out / "eval" / "matrix.json").read_text())
+    assert len(matrix) == 6  # 3 self-play entries and 3 cross-play pairs
+    # A second start skips the finished seeds.
+    again = _sweep(config, out)
+    stdout, stderr = again.communicate(timeout=600)
+    assert again.returncode == 0, stderr
+    assert stdout.count("finished earlier") == 3, stdout

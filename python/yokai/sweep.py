@@ -1,0 +1,294 @@
+"""Multi-seed sweeps on Ray: ``python -m yokai.sweep CONFIG --seeds 0..12 [--address auto]``.
+
+Each seed of each row is one Ray task with its declared resources (``--cpus-per-seed``,
+``--gpus-per-seed``) that runs ``yokai train CONFIG --seeds N --out OUT`` into a directory
+every node sees (a local path by default; on a cluster a shared file system such as NFS or
+Lustre: the trainer writes ordinary files). Then the sweep evaluates every row with
+``yokai eval`` (self-play and cross-play over all seeds) and, for several rows, writes the
+paper's table with ``yokai compare``.
+
+Fault tolerance comes from the trainer's checkpoints, not from Ray's object store:
+
+- a task whose worker dies (node lost, preempted, killed) is retried by Ray
+  (``--max-retries``), and a retry passes ``--resume`` when the seed has a checkpoint, so it
+  continues from the last one instead of starting over (the trainer's resume is exact: the
+  final parameters equal an uninterrupted run's);
+- the ``yokai`` process dies with its worker (``PR_SET_PDEATHSIG``), so a retry never races
+  an orphan writing the same directory;
+- a sweep stopped and started again skips seeds marked finished and resumes the others.
+
+Without ``--address`` a local Ray instance is started, so the same command runs on a
+laptop. The driver prints one line per seed (update, steps, R, ETA) read from each run's
+``metrics.jsonl``; Ray's dashboard shows the tasks where the user runs one.
+
+A sweep file lists several rows (a grid over configs × seeds)::
+
+    # sweeps/paper.toml
+    seeds = "0..12"            # default for every row
+    [[row]]
+    config = "ippo-9c-2p"
+    [[row]]
+    config = "op-9c-2p"
+    out = "runs/op"            # default: <--out>/<config name>
+
+``python -m yokai.sweep --sweep sweeps/paper.toml --address auto --gpus-per-seed 1``
+"""
+
+from __future__ import annotations
+
+import argparse
+import ctypes
+import json
+import os
+import pathlib
+import shutil
+import signal
+import subprocess
+import sys
+import time
+from dataclasses import dataclass
+
+try:  # Python 3.11+
+    import tomllib
+except ModuleNotFoundError:  # pragma: no cover - the sweep extra installs tomli there
+    import tomli as tomllib
+
+DONE = ".sweep-done"
+ATTEMPTS = "sweep.log"
+
+
+@dataclass(frozen=True)
+class Row:
+    """One row of a sweep: a training config (a preset name or a TOML file) over seeds,
+    into ``out`` (one ``seed-N`` run per seed)."""
+
+    config: str
+    seeds: tuple
+    out: pathlib.Path
+
+
+def parse_seeds(text: str) -> tuple:
+    """``0..3`` (0, 1, 2), ``0,4,7`` or ``5``, as ``yokai train --seeds`` reads them."""
+    text = str(text).strip()
+    try:
+        if ".." in text:
+            a, b = (int(x) for x in text.split("..", 1))
+            if b <= a:
+                raise ValueError(f"--seeds {text!r} is empty (A..B excludes B)")
+            return tuple(range(a, b))
+        return tuple(int(x) for x in text.split(","))
+    except ValueError as e:
+        if "empty" in str(e):
+            raise
+        raise ValueError(f"--seeds {text!r} is not A..B, a comma-separated list or a number") from None
+
+
+def config_name(config: str) -> str:
+    return pathlib.Path(config).stem if config.endswith(".toml") else config
+
+
+def find_yokai(given: str | None = None) -> str:
+    """The ``yokai`` binary: ``given``, else ``$YOKAI``, else ``yokai`` on PATH, else this
+    checkout's ``target/release/yokai``."""
+    candidates = [given, os.environ.get("YOKAI"), shutil.which("yokai")]
+    candidates.append(str(pathlib.Path(__file__).resolve().parents[2] / "target" / "release" / "yokai"))
+    for c in candidates:
+        if c and pathlib.Path(c).is_file():
+            return str(pathlib.Path(c).resolve())
+    raise FileNotFoundError(
+        "no yokai binary: build it (cargo build --release -p yokai-cli) or pass --yokai PATH"
+    )
+
+
+def _die_with_parent():  # pragma: no cover - runs in the child between fork and exec
+    """Ask the kernel to SIGKILL this process when its parent (the Ray worker) dies."""
+    try:
+        ctypes.CDLL("libc.so.6", use_errno=True).prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG
+    except OSError:
+        pass
+
+
+def train_seed(yokai: str, config: str, seed: int, out: str, threads: int) -> dict:
+    """Train (or resume, or skip) one seed; the body of a Ray task. Returns a summary."""
+    run = pathlib.Path(out) / f"seed-{seed}"
+    if (run / DONE).exists():
+        return {"seed": seed, "status": "finished earlier"}
+    resume = (run / "checkpoint.ykc").exists()
+    run.mkdir(parents=True, exist_ok=True)
+    _note(run, f"pid {os.getpid()} {'resumes from its checkpoint' if resume else 'starts'}")
+    (run / ".sweep-worker").write_text(str(os.getpid()))
+    cmd = [yokai, "train", config, "--seeds", str(seed), "--out", out, "--eval-games", "0",
+           "--threads", str(threads)] + (["--resume"] if resume else [])
+    proc = subprocess.run(cmd, capture_output=True, text=True,
+                          preexec_fn=_die_with_parent if sys.platform.startswith("linux") else None)
+    if proc.returncode != 0:
+        _note(run, f"pid {os.getpid()} failed: exit {proc.returncode}")
+        raise RuntimeError(f"yokai train {config} seed {seed} exited with {proc.returncode}:\n"
+                           f"{proc.stderr[-2000:]}")
+    # yokai's summary, "seed N: U updates, S env steps (S' now, in T s: …)", says how many
+    # steps this attempt trained, hence where it resumed.
+    summary = next((l for l in proc.stderr.splitlines() if l.startswith(f"seed {seed}: ")), "")
+    _note(run, f"pid {os.getpid()} done: {summary}")
+    (run / DONE).write_text(summary)
+    return {"seed": seed, "status": "resumed" if resume else "trained", "log": proc.stderr.strip()}
+
+
+def _note(run: pathlib.Path, text: str):
+    """One line of the seed's attempt log (``sweep.log``)."""
+    with open(run / ATTEMPTS, "a") as log:
+        log.write(f"{time.strftime('%Y-%m-%d %H:%M:%S')} {text}\n")
+
+
+def evaluate_row(yokai: str, out: str, games: int, threads: int) -> str:
+    """``yokai eval`` over every seed of a row (self-play and all cross-play pairs)."""
+    eval_dir = str(pathlib.Path(out) / "eval")
+    cmd = [yokai, "eval", out, "--games", str(games), "--out", eval_dir, "--threads", str(threads)]
+    proc = subprocess.run(cmd, capture_output=True, text=True)
+    if proc.returncode != 0:
+        raise RuntimeError(f"yokai eval {out} exited with {proc.returncode}:\n{proc.stderr[-2000:]}")
+    return eval_dir
+
+
+def _last_metrics(run: pathlib.Path) -> dict | None:
+    try:
+        lines = (run / "metrics.jsonl").read_text().strip().splitlines()
+        return json.loads(lines[-1]) if lines else None
+    except (OSError, ValueError):
+        return None
+
+
+def _total_steps(run: pathlib.Path) -> int | None:
+    try:
+        return int(tomllib.loads((run / "config.toml").read_text())["ppo"]["total_steps"])
+    except Exception:  # noqa: BLE001 - not written yet, or unreadable: no total to show
+        return None
+
+
+def progress_line(row: Row, seed: int, started: dict) -> str:
+    """``seed N: update U, steps S/T, R r, ETA`` from the run's own files."""
+    run = row.out / f"seed-{seed}"
+    name = f"{config_name(row.config)} seed {seed}"
+    if (run / DONE).exists():
+        return f"{name}: finished"
+    last = _last_metrics(run)
+    if last is None:
+        return f"{name}: waiting"
+    steps, total = int(last["env_steps"]), _total_steps(run)
+    reward = last.get("games", {}).get("reward")
+    line = f"{name}: update {last['update']}, steps {steps:,}"
+    if total:
+        line += f"/{total:,}"
+    if reward is not None:
+        line += f", R {reward:+.2f}"
+    first = started.setdefault((row, seed), (time.time(), steps))
+    rate = (steps - first[1]) / max(time.time() - first[0], 1e-9)
+    if total and rate > 0:
+        line += f", ETA {int((total - steps) / rate)} s"
+    return line
+
+
+def run_sweep(rows, address=None, cpus_per_seed=1, gpus_per_seed=0.0, max_retries=3,
+              eval_games=1000, yokai=None, num_cpus=None, progress_every=10.0, quiet=False):
+    """Train every seed of every row as Ray tasks, then evaluate each row; returns
+    ``{"runs": [...], "evals": [...], "table": path or None}``. ``num_cpus`` caps a local
+    Ray instance (tests)."""
+    import ray
+
+    yokai = find_yokai(yokai)
+    if not ray.is_initialized():
+        ray.init(address=address, num_cpus=num_cpus if address is None else None,
+                 include_dashboard=False, logging_level="WARNING", log_to_driver=False)
+    task = ray.remote(num_cpus=cpus_per_seed, num_gpus=gpus_per_seed, max_retries=max_retries,
+                      retry_exceptions=True)(train_seed)
+    refs = {}
+    for row in rows:
+        row.out.mkdir(parents=True, exist_ok=True)
+        for seed in row.seeds:
+            refs[task.remote(yokai, row.config, seed, str(row.out), max(1, int(cpus_per_seed)))] = (row, seed)
+    started, results, pending = {}, [], list(refs)
+    next_report = time.time()
+    while pending:
+        ready, pending = ray.wait(pending, timeout=1.0)
+        for ref in ready:
+            results.append(ray.get(ref))  # raises once the retries are spent
+        if not quiet and (time.time() >= next_report or not pending):
+            for row, seed in refs.values():
+                print(progress_line(row, seed, started), file=sys.stderr)
+            next_report = time.time() + progress_every
+    evals = []
+    if eval_games > 0:
+        evaluate = ray.remote(num_cpus=cpus_per_seed)(evaluate_row)
+        evals = ray.get([evaluate.remote(yokai, str(row.out), eval_games, max(1, int(cpus_per_seed)))
+                         for row in rows])
+    table = None
+    if len(evals) > 1:
+        table = str(rows[0].out.parent / "table.md")
+        proc = subprocess.run([yokai, "compare", *evals, "--out", table], capture_output=True, text=True)
+        if proc.returncode != 0:
+            raise RuntimeError(f"yokai compare exited with {proc.returncode}:\n{proc.stderr[-2000:]}")
+    return {"runs": results, "evals": evals, "table": table}
+
+
+def rows_from_args(args) -> list:
+    out = pathlib.Path(args.out) if args.out else None
+    if args.sweep:
+        spec = tomllib.loads(pathlib.Path(args.sweep).read_text())
+        unknown = set(spec) - {"seeds", "out", "row"}
+        if unknown:
+            raise ValueError(f"{args.sweep}: unknown keys {sorted(unknown)} (seeds, out, [[row]])")
+        base = pathlib.Path(spec.get("out", out or "runs"))
+        rows = []
+        for i, r in enumerate(spec.get("row", [])):
+            if "config" not in r or set(r) - {"config", "seeds", "out"}:
+                raise ValueError(f"{args.sweep}: row {i + 1} needs config (and may have seeds, out)")
+            seeds = parse_seeds(r.get("seeds", spec.get("seeds", args.seeds)))
+            rows.append(Row(r["config"], seeds, pathlib.Path(r.get("out", base / config_name(r["config"])))))
+        if not rows:
+            raise ValueError(f"{args.sweep}: no [[row]]")
+        return rows
+    if not args.configs:
+        raise ValueError("give one or more configs, or --sweep FILE")
+    seeds = parse_seeds(args.seeds)
+    if len(args.configs) == 1 and out is not None:
+        return [Row(args.configs[0], seeds, out)]
+    base = out or pathlib.Path("runs")
+    return [Row(c, seeds, base / config_name(c)) for c in args.configs]
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(prog="python -m yokai.sweep", description=__doc__.split("\n\n")[0],
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("configs", nargs="*", help="training configs: preset names or TOML files")
+    ap.add_argument("--sweep", help="a sweep file of rows (see below)")
+    ap.add_argument("--seeds", default="0..3", help="seeds: 0..12, 0,4,7 or 5 (default 0..3)")
+    ap.add_argument("--out", help="run directory of one config, or the parent of one per config "
+                                  "(default runs/<config>)")
+    ap.add_argument("--address", help="Ray cluster address (auto, ray://host:10001); default: "
+                                      "start a local Ray instance")
+    ap.add_argument("--cpus-per-seed", type=float, default=1, help="CPUs per seed (default 1)")
+    ap.add_argument("--gpus-per-seed", type=float, default=0, help="GPUs per seed (default 0)")
+    ap.add_argument("--max-retries", type=int, default=3, help="retries of a failed seed (default 3)")
+    ap.add_argument("--eval-games", type=int, default=1000, help="games per pair in the evaluation; 0 skips it")
+    ap.add_argument("--num-cpus", type=int, help="CPUs of the local Ray instance (default: all; "
+                                                 "ignored with --address)")
+    ap.add_argument("--yokai", help="path of the yokai binary on every node (default: $YOKAI, PATH, "
+                                    "this checkout's target/release/yokai)")
+    ap.epilog = __doc__[__doc__.index("A sweep file"):]
+    args = ap.parse_args(argv)
+    try:
+        rows = rows_from_args(args)
+    except (ValueError, OSError) as e:
+        ap.error(str(e))
+    result = run_sweep(rows, address=args.address, cpus_per_seed=args.cpus_per_seed,
+                       gpus_per_seed=args.gpus_per_seed, max_retries=args.max_retries,
+                       eval_games=args.eval_games, yokai=args.yokai, num_cpus=args.num_cpus)
+    for r in result["runs"]:
+        print(f"seed {r['seed']}: {r['status']}")
+    for e in result["evals"]:
+        print(f"evaluation: {e}")
+    if result["table"]:
+        print(f"table: {result['table']}")
+
+
+if __name__ == "__main__":
+    main()
