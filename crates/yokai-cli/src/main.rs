@@ -10,6 +10,7 @@ mod plots;
 mod probe;
 mod random;
 mod replay;
+mod serve;
 mod show;
 mod soak;
 mod summary;
@@ -65,6 +66,9 @@ enum Command {
     /// Linear probes of card colours in trained policies' memories, by game step, in
     /// self-play and with partners, against chance and a perfect-memory oracle.
     Probe(probe::Args),
+    /// Play with agents in a web browser: a local server with the board, clickable moves,
+    /// bots shown step by step, replays, and every game recorded (docs/play.md).
+    Serve(serve::Args),
 }
 
 fn main() -> ExitCode {
@@ -89,6 +93,7 @@ fn main() -> ExitCode {
         Command::Compare(args) => compare::run(args),
         Command::Replay(args) => replay::run(args),
         Command::Probe(args) => probe::run(args),
+        Command::Serve(args) => serve::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

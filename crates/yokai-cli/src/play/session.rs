@@ -61,6 +61,40 @@ impl Session {
         seed: u64,
         players: Vec<(String, Player)>,
     ) -> anyhow::Result<Session> {
+        let mut session = Session::seated(config, seed, players)?;
+        session.run_bots()?;
+        Ok(session)
+    }
+
+    /// The game dealt from `seed` continued through `actions` (a record's), every seat shown
+    /// every action (bots observe the recorded actions; they do not choose them), then the
+    /// bots play on if it is their turn.
+    pub fn resume(
+        config: Config,
+        seed: u64,
+        players: Vec<(String, Player)>,
+        actions: &[Action],
+    ) -> anyhow::Result<Session> {
+        let mut session = Session::seated(config, seed, players)?;
+        for (step, &action) in actions.iter().enumerate() {
+            let seat = session.game().current_seat();
+            session.game().check(seat, action).map_err(|reason| {
+                anyhow!("recorded step {step}, `{action}` by {seat}: {reason}")
+            })?;
+            if matches!(session.players[seat.index()], Player::Human) {
+                session.last_human = Some(seat);
+            }
+            session.apply(seat, action);
+        }
+        session.run_bots()?;
+        Ok(session)
+    }
+
+    fn seated(
+        config: Config,
+        seed: u64,
+        players: Vec<(String, Player)>,
+    ) -> anyhow::Result<Session> {
         if players.len() != config.players() {
             return Err(anyhow!(
                 "{config} has {} seats, but {} players were given",
@@ -74,7 +108,7 @@ impl Session {
                 b.reset(derive_seed(seed, s as u64));
             }
         }
-        let mut session = Session {
+        Ok(Session {
             game: RecordedGame::new(config, seed),
             players,
             names,
@@ -83,9 +117,7 @@ impl Session {
             selected: 0,
             curtain: false,
             last_human: None,
-        };
-        session.run_bots()?;
-        Ok(session)
+        })
     }
 
     pub fn game(&self) -> &Game {
@@ -112,6 +144,11 @@ impl Session {
             .iter()
             .filter(|p| matches!(p, Player::Human))
             .count()
+    }
+
+    /// Whether a person holds `seat`.
+    pub fn is_human(&self, seat: Seat) -> bool {
+        matches!(self.players.get(seat.index()), Some(Player::Human))
     }
 
     /// The human whose turn it is (`None` when the game is over).

@@ -1,0 +1,238 @@
+//! The games the server holds: a table per game (a [`Session`] with its seats), looked up
+//! by id, each recorded to a replay file after every action so that a game survives a
+//! reload of the page and a restart of the server.
+
+use crate::eval::Entry;
+use crate::play::session::{Player, Session};
+use anyhow::{anyhow, bail, Context};
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
+use yokai_engine::{Action, Config, MetricsAccumulator, Replay, Seat};
+
+/// Seats and game the server offers when a page does not ask for others.
+#[derive(Clone, Debug)]
+pub struct Defaults {
+    pub config: Config,
+    pub seats: Vec<String>,
+}
+
+/// One game at one table.
+pub struct Table {
+    pub id: String,
+    /// The person's session (a browser's id): records are filed under it.
+    pub session_id: String,
+    pub session: Session,
+    pub seed: u64,
+}
+
+/// Every game of the server.
+pub struct Tables {
+    defaults: Defaults,
+    records: PathBuf,
+    games: Mutex<HashMap<String, Arc<Mutex<Table>>>>,
+    next: Mutex<u64>,
+}
+
+/// An id of letters and digits only: it becomes a file name.
+pub fn check_id(what: &str, id: &str) -> anyhow::Result<()> {
+    if id.is_empty() || id.len() > 64 || !id.chars().all(|c| c.is_ascii_alphanumeric() || c == '-')
+    {
+        bail!("{what} `{id}` is not 1–64 letters, digits or dashes");
+    }
+    Ok(())
+}
+
+impl Tables {
+    pub fn new(defaults: Defaults, records: PathBuf) -> Tables {
+        let seed = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(0, |d| d.as_nanos() as u64);
+        Tables {
+            defaults,
+            records,
+            games: Mutex::new(HashMap::new()),
+            next: Mutex::new(seed),
+        }
+    }
+
+    pub fn defaults(&self) -> &Defaults {
+        &self.defaults
+    }
+
+    /// Seat the default seats once (a bad policy path fails at start, not in the page).
+    pub fn check_defaults(&self) -> anyhow::Result<()> {
+        players(&self.defaults.config, &self.defaults.seats, 0).map(|_| ())
+    }
+
+    /// A new game for `session_id` with `seats` (default: the server's) of `config`.
+    pub fn create(
+        &self,
+        session_id: &str,
+        config: Option<&str>,
+        seats: Option<Vec<String>>,
+        seed: Option<u64>,
+    ) -> anyhow::Result<Arc<Mutex<Table>>> {
+        check_id("session", session_id)?;
+        let config = match config {
+            Some(name) => Config::resolve(name)?,
+            None => self.defaults.config,
+        };
+        let seats = seats.unwrap_or_else(|| self.defaults.seats.clone());
+        // Every game gets a fresh id (and, unless asked for one, a fresh seed) from a
+        // counter started at the server's start time: two games never share a record.
+        let (id, fresh_seed) = {
+            let mut next = self.next.lock().unwrap_or_else(|e| e.into_inner());
+            loop {
+                *next = yokai_engine::derive_seed(*next, 1);
+                let id = format!("{:016x}", yokai_engine::derive_seed(*next, 0x5E7));
+                if !self.record_path(session_id, &id).exists() {
+                    break (id, *next);
+                }
+            }
+        };
+        let seed = seed.unwrap_or(fresh_seed);
+        let session = Session::new(config, seed, players(&config, &seats, seed)?)?;
+        let table = Arc::new(Mutex::new(Table {
+            id: id.clone(),
+            session_id: session_id.to_string(),
+            session,
+            seed,
+        }));
+        self.save(&table.lock().unwrap_or_else(|e| e.into_inner()))?;
+        self.games
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .insert(id, table.clone());
+        Ok(table)
+    }
+
+    /// The game `id` of `session_id`: in memory, else read back from its record (after a
+    /// restart of the server), its seats seated again and its actions replayed.
+    pub fn get(&self, session_id: &str, id: &str) -> anyhow::Result<Arc<Mutex<Table>>> {
+        check_id("session", session_id)?;
+        check_id("game", id)?;
+        if let Some(t) = self.games.lock().unwrap_or_else(|e| e.into_inner()).get(id) {
+            let same = t.lock().unwrap_or_else(|e| e.into_inner()).session_id == session_id;
+            return if same {
+                Ok(t.clone())
+            } else {
+                Err(anyhow!("no game `{id}` in this session"))
+            };
+        }
+        let path = self.record_path(session_id, id);
+        let text = std::fs::read_to_string(&path)
+            .map_err(|_| anyhow!("no game `{id}` in this session"))?;
+        let replay =
+            Replay::from_jsonl(&text).with_context(|| format!("the record {}", path.display()))?;
+        let seed = replay
+            .header
+            .seed
+            .with_context(|| format!("the record {} has no seed", path.display()))?;
+        let config = replay.header.config;
+        let actions = replay
+            .steps
+            .iter()
+            .map(|s| config.decode(s.action as usize))
+            .collect::<Result<Vec<Action>, _>>()?;
+        let seats = replay.header.seats.clone();
+        let session = Session::resume(config, seed, players(&config, &seats, seed)?, &actions)?;
+        let table = Arc::new(Mutex::new(Table {
+            id: id.to_string(),
+            session_id: session_id.to_string(),
+            session,
+            seed,
+        }));
+        self.games
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .insert(id.to_string(), table.clone());
+        Ok(table)
+    }
+
+    /// Play `action` (an index) for `seat`, which must be the human to act; then the bots.
+    pub fn act(&self, table: &mut Table, seat: u8, action: usize) -> anyhow::Result<()> {
+        let config = *table.session.game().config();
+        let action = config.decode(action)?;
+        match table.session.human_to_act() {
+            Some(s) if s == Seat(seat) => {}
+            Some(s) => bail!("it is {s}'s turn, not seat {seat}'s"),
+            None if table.session.is_over() => bail!("the game is over"),
+            None => bail!("it is not a human's turn"),
+        }
+        table.session.choose(action)?;
+        self.save(table)
+    }
+
+    /// Write the game's record (after every action: a reload or a restart continues it).
+    pub fn save(&self, table: &Table) -> anyhow::Result<()> {
+        let path = self.record_path(&table.session_id, &table.id);
+        if let Some(dir) = path.parent() {
+            std::fs::create_dir_all(dir)
+                .with_context(|| format!("cannot create {}", dir.display()))?;
+        }
+        let tmp = path.with_extension("jsonl.tmp");
+        std::fs::write(&tmp, table.session.replay().to_jsonl())
+            .with_context(|| format!("cannot write {}", tmp.display()))?;
+        std::fs::rename(&tmp, &path).with_context(|| format!("cannot write {}", path.display()))
+    }
+
+    pub fn record_path(&self, session_id: &str, id: &str) -> PathBuf {
+        self.records.join(session_id).join(format!("{id}.jsonl"))
+    }
+
+    /// The paper's metrics over the finished games of `session_id`.
+    pub fn summary(&self, session_id: &str) -> anyhow::Result<serde_json::Value> {
+        check_id("session", session_id)?;
+        summarise(&self.records.join(session_id))
+    }
+}
+
+/// The seats named `seats` at a game of `config`: `human`, or anything `yokai eval` seats.
+fn players(config: &Config, seats: &[String], seed: u64) -> anyhow::Result<Vec<(String, Player)>> {
+    if seats.len() != config.players() {
+        bail!(
+            "{config} has {} seats, but {} were given",
+            config.players(),
+            seats.len()
+        );
+    }
+    seats
+        .iter()
+        .enumerate()
+        .map(|(s, name)| {
+            if name == "human" {
+                return Ok((name.clone(), Player::Human));
+            }
+            let entry = Entry::parse(name)?;
+            entry.check_game(config)?;
+            Ok((entry.name(), Player::Bot(entry.build(seed ^ s as u64))))
+        })
+        .collect()
+}
+
+/// R, win rate, EE, SEE, WEE, LEN over the finished games recorded in `dir`.
+pub fn summarise(dir: &Path) -> anyhow::Result<serde_json::Value> {
+    let mut acc = MetricsAccumulator::default();
+    let mut unfinished = 0;
+    if let Ok(entries) = std::fs::read_dir(dir) {
+        for entry in entries.flatten() {
+            let path = entry.path();
+            if path.extension().and_then(|e| e.to_str()) != Some("jsonl") {
+                continue;
+            }
+            let text = std::fs::read_to_string(&path)?;
+            let replay =
+                Replay::from_jsonl(&text).with_context(|| format!("{}", path.display()))?;
+            match replay.outcome {
+                Some(o) => acc.add(&o),
+                None => unfinished += 1,
+            }
+        }
+    }
+    Ok(serde_json::json!({
+        "finished": acc.games,
+        "unfinished": unfinished,
+        "metrics": acc.metrics(),
+    }))
+}
