@@ -21,4 +21,12 @@ fi
 # PyTorch for the test of python/examples/ppo_torch.py (PyPI's Linux wheel is the CUDA
 # build: about 1.5 min and 5 GB the first time; it runs on the CPU without a GPU).
 .venv/bin/python -m pip install --quiet torch
+# The browser test of `yokai serve` drives Debian's Chromium with Selenium (installed with
+# the test extra). Install the browser where we may (root on Debian, about 1 min); without
+# it that one test is skipped.
+if ! command -v chromedriver > /dev/null && [ "$(id -u)" = 0 ] && command -v apt-get > /dev/null; then
+    apt-get install -y -q chromium chromium-driver > /dev/null 2>&1 \
+        || { apt-get update -q > /dev/null 2>&1 && apt-get install -y -q chromium chromium-driver > /dev/null 2>&1; } \
+        || echo "could not install chromium: the browser test will be skipped"
+fi
 .venv/bin/python -m pytest -q python/tests

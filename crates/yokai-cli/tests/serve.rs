@@ -352,4 +352,19 @@ fn fifty_concurrent_games_all_finish_with_valid_records() {
     assert_eq!(files, 50);
     let (_, summary) = server.get("/api/summary?session=load0");
     assert_eq!(summary["finished"], 10);
+    // The study's table: a row per session (5 sessions × 10 games) and one for all.
+    let out = Command::new(env!("CARGO_BIN_EXE_yokai"))
+        .args(["serve", "--report", "--records"])
+        .arg(tmp.path())
+        .output()
+        .unwrap();
+    let table = String::from_utf8(out.stdout).unwrap();
+    assert!(out.status.success(), "{table}");
+    let rows: Vec<&str> = table.lines().filter(|l| l.starts_with("| load")).collect();
+    assert_eq!(rows.len(), 5, "{table}");
+    assert!(
+        rows.iter().all(|r| r.contains("| human + random | 10 |")),
+        "{table}"
+    );
+    assert!(table.contains("| all |  | 50 |"), "{table}");
 }

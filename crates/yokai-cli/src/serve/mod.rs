@@ -57,6 +57,10 @@ pub struct Args {
     /// Where every game is recorded: RECORDS/SESSION/GAME.jsonl.
     #[arg(long, default_value = "runs/human-games")]
     records: PathBuf,
+    /// Do not serve: print the table of the finished games in --records (one row per
+    /// session and seating, in the paper's metrics) and exit.
+    #[arg(long)]
+    report: bool,
 }
 
 const INDEX: &str = include_str!("assets/index.html");
@@ -64,6 +68,10 @@ const APP: &str = include_str!("assets/app.js");
 const STYLE: &str = include_str!("assets/style.css");
 
 pub fn run(args: Args) -> anyhow::Result<()> {
+    if args.report {
+        print!("{}", tables::report(&args.records)?);
+        return Ok(());
+    }
     let config = Config::resolve(&args.config)?;
     let mut seats: Vec<String> = args
         .seats

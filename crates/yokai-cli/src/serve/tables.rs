@@ -236,3 +236,63 @@ pub fn summarise(dir: &Path) -> anyhow::Result<serde_json::Value> {
         "metrics": acc.metrics(),
     }))
 }
+
+/// A Markdown table of the finished games under `records` (RECORDS/SESSION/GAME.jsonl),
+/// one row per session and seating, in the paper's metrics: the human study's results.
+pub fn report(records: &Path) -> anyhow::Result<String> {
+    let mut groups: std::collections::BTreeMap<(String, String), MetricsAccumulator> =
+        Default::default();
+    let mut unfinished = 0;
+    let sessions =
+        std::fs::read_dir(records).with_context(|| format!("cannot list {}", records.display()))?;
+    for session in sessions.flatten().filter(|e| e.path().is_dir()) {
+        let name = session.file_name().to_string_lossy().to_string();
+        for entry in std::fs::read_dir(session.path())?.flatten() {
+            let path = entry.path();
+            if path.extension().and_then(|e| e.to_str()) != Some("jsonl") {
+                continue;
+            }
+            let text = std::fs::read_to_string(&path)?;
+            let replay =
+                Replay::from_jsonl(&text).with_context(|| format!("{}", path.display()))?;
+            let seating = replay.header.seats.join(" + ");
+            match replay.outcome {
+                Some(o) => groups.entry((name.clone(), seating)).or_default().add(&o),
+                None => unfinished += 1,
+            }
+        }
+    }
+    let mut out = String::from(
+        "| session | seats | games | R | SEE % | EE % | WEE % | LEN |\n|---|---|---|---|---|---|---|---|\n",
+    );
+    let mut all = MetricsAccumulator::default();
+    let row = |session: &str, seats: &str, acc: &MetricsAccumulator| {
+        let m = acc.metrics().expect("a group has games");
+        let wee = m
+            .win_given_early_end
+            .map_or("–".to_string(), |w| format!("{:.0}", 100.0 * w));
+        format!(
+            "| {session} | {seats} | {} | {:.2} ± {:.2} | {:.0} | {:.0} | {wee} | {:.1} |\n",
+            m.games,
+            m.reward,
+            m.reward_se,
+            100.0 * m.successful_early_end,
+            100.0 * m.early_end,
+            m.length
+        )
+    };
+    for ((session, seats), acc) in &groups {
+        out += &row(session, seats, acc);
+        all.merge(acc);
+    }
+    if groups.len() > 1 {
+        out += &row("all", "", &all);
+    }
+    if groups.is_empty() {
+        out = "No finished game.\n".into();
+    }
+    if unfinished > 0 {
+        out += &format!("\n{unfinished} unfinished game(s) left out.\n");
+    }
+    Ok(out)
+}
