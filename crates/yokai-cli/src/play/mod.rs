@@ -36,10 +36,10 @@ pub struct Args {
     save: Option<PathBuf>,
 }
 
-pub fn run(args: Args) -> anyhow::Result<()> {
-    let config = Config::resolve(&args.config)?;
-    let mut names: Vec<String> = args
-        .seats
+/// The seats of `--seats` (comma-separated, seat 0 first), checked against `config`'s
+/// number of players; missing seats get `belief`.
+pub fn seat_names(seats: &str, config: &Config) -> anyhow::Result<Vec<String>> {
+    let mut names: Vec<String> = seats
         .split(',')
         .map(|s| s.trim().to_string())
         .filter(|s| !s.is_empty())
@@ -51,9 +51,13 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             config.players()
         ));
     }
-    while names.len() < config.players() {
-        names.push("belief".into());
-    }
+    names.resize(config.players(), "belief".into());
+    Ok(names)
+}
+
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let config = Config::resolve(&args.config)?;
+    let names = seat_names(&args.seats, &config)?;
     let seed = args.seed.unwrap_or_else(|| {
         std::time::SystemTime::now()
             .duration_since(std::time::UNIX_EPOCH)

@@ -73,20 +73,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         return Ok(());
     }
     let config = Config::resolve(&args.config)?;
-    let mut seats: Vec<String> = args
-        .seats
-        .split(',')
-        .map(|s| s.trim().to_string())
-        .filter(|s| !s.is_empty())
-        .collect();
-    if seats.len() > config.players() {
-        anyhow::bail!(
-            "{} seats given, but {config} has {}",
-            seats.len(),
-            config.players()
-        );
-    }
-    seats.resize(config.players(), "belief".into());
+    let seats = crate::play::seat_names(&args.seats, &config)?;
     // Seat every default once now, so a bad policy path fails here, not in the page.
     let tables = Tables::new(Defaults { config, seats }, args.records.clone());
     tables.check_defaults()?;

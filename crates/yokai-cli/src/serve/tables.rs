@@ -211,23 +211,30 @@ fn players(config: &Config, seats: &[String], seed: u64) -> anyhow::Result<Vec<(
         .collect()
 }
 
+/// The replay files (`*.jsonl`) in `dir`, read and checked; none if `dir` does not exist.
+fn records_in(dir: &Path) -> anyhow::Result<Vec<Replay>> {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return Ok(Vec::new());
+    };
+    let mut out = Vec::new();
+    for entry in entries.flatten() {
+        let path = entry.path();
+        if path.extension().and_then(|e| e.to_str()) == Some("jsonl") {
+            let text = std::fs::read_to_string(&path)?;
+            out.push(Replay::from_jsonl(&text).with_context(|| format!("{}", path.display()))?);
+        }
+    }
+    Ok(out)
+}
+
 /// R, win rate, EE, SEE, WEE, LEN over the finished games recorded in `dir`.
 pub fn summarise(dir: &Path) -> anyhow::Result<serde_json::Value> {
     let mut acc = MetricsAccumulator::default();
     let mut unfinished = 0;
-    if let Ok(entries) = std::fs::read_dir(dir) {
-        for entry in entries.flatten() {
-            let path = entry.path();
-            if path.extension().and_then(|e| e.to_str()) != Some("jsonl") {
-                continue;
-            }
-            let text = std::fs::read_to_string(&path)?;
-            let replay =
-                Replay::from_jsonl(&text).with_context(|| format!("{}", path.display()))?;
-            match replay.outcome {
-                Some(o) => acc.add(&o),
-                None => unfinished += 1,
-            }
+    for replay in records_in(dir)? {
+        match replay.outcome {
+            Some(o) => acc.add(&o),
+            None => unfinished += 1,
         }
     }
     Ok(serde_json::json!({
@@ -247,14 +254,7 @@ pub fn report(records: &Path) -> anyhow::Result<String> {
         std::fs::read_dir(records).with_context(|| format!("cannot list {}", records.display()))?;
     for session in sessions.flatten().filter(|e| e.path().is_dir()) {
         let name = session.file_name().to_string_lossy().to_string();
-        for entry in std::fs::read_dir(session.path())?.flatten() {
-            let path = entry.path();
-            if path.extension().and_then(|e| e.to_str()) != Some("jsonl") {
-                continue;
-            }
-            let text = std::fs::read_to_string(&path)?;
-            let replay =
-                Replay::from_jsonl(&text).with_context(|| format!("{}", path.display()))?;
+        for replay in records_in(&session.path())? {
             let seating = replay.header.seats.join(" + ");
             match replay.outcome {
                 Some(o) => groups.entry((name.clone(), seating)).or_default().add(&o),

@@ -310,6 +310,15 @@ mod tests {
         x
     }
 
+    /// The largest difference between the two rows of a 2-row output, flattened.
+    fn halves_gap(out: Vec<f32>) -> f32 {
+        let (a, b) = out.split_at(out.len() / 2);
+        a.iter()
+            .zip(b)
+            .map(|(p, q)| (p - q).abs())
+            .fold(0.0, f32::max)
+    }
+
     fn batch(rows: &[Vec<f32>]) -> Tensor<2> {
         let width = rows[0].len();
         Tensor::from_data(
@@ -348,13 +357,8 @@ mod tests {
                         .iter()
                         .flat_map(|&i| x[i * f..][..f].to_vec())
                         .collect();
-                    let out = to_vec(net.forward(batch(&[x.clone(), permuted.clone()])));
-                    let (a, b) = out.split_at(out.len() / 2);
-                    let gap = a
-                        .iter()
-                        .zip(b)
-                        .map(|(p, q)| (p - q).abs())
-                        .fold(0.0, f32::max);
+                    let gap =
+                        halves_gap(to_vec(net.forward(batch(&[x.clone(), permuted.clone()]))));
                     assert!(gap < 1e-4, "{name} {kind:?}: output moved by {gap}");
                     let nodes = to_vec(net.node_embeddings(batch(&[x, permuted])));
                     let d = nodes.len() / 2 / (n + 1);
@@ -388,13 +392,7 @@ mod tests {
             let [n, _] = game.node_shape(Part::Full);
             let edges = |x: &[f32]| to_vec(net.edges(batch(&[x.to_vec()]).reshape([1, n, f])));
             assert_ne!(edges(&x), edges(&moved));
-            let out = to_vec(net.forward(batch(&[x.clone(), moved.clone()])));
-            let (a, b) = out.split_at(out.len() / 2);
-            let gap = a
-                .iter()
-                .zip(b)
-                .map(|(p, q)| (p - q).abs())
-                .fold(0.0, f32::max);
+            let gap = halves_gap(to_vec(net.forward(batch(&[x.clone(), moved.clone()]))));
             assert!(
                 gap > 1e-3,
                 "{kind:?}: moving a card changed nothing ({gap})"
