@@ -255,15 +255,23 @@ fn a_run_directory_holds_config_metrics_checkpoint_and_a_playable_policy() {
 fn ablation_networks_train_resume_exactly_and_play() {
     use yokai_train::{ActionHead, MemoryKind};
     let tmp = tempdir("ablation");
-    for (encoder, memory) in [
-        (EncoderKind::Gcn, MemoryKind::Gru),
-        (EncoderKind::Gatv2, MemoryKind::Gru),
-        (EncoderKind::Relation, MemoryKind::Gru),
-        (EncoderKind::Mlp, MemoryKind::Trxl),
-        (EncoderKind::Gatv2, MemoryKind::Trxl),
-        (EncoderKind::Cnn, MemoryKind::Trxl),
+    for (encoder, memory, obl) in [
+        (EncoderKind::Gcn, MemoryKind::Gru, false),
+        (EncoderKind::Gatv2, MemoryKind::Gru, false),
+        (EncoderKind::Relation, MemoryKind::Gru, false),
+        (EncoderKind::Mlp, MemoryKind::Trxl, false),
+        (EncoderKind::Gatv2, MemoryKind::Trxl, false),
+        (EncoderKind::Cnn, MemoryKind::Trxl, false),
+        // Off-Belief Learning (level 1: fictitious continuations) with both ablations.
+        (EncoderKind::Relation, MemoryKind::Trxl, true),
     ] {
-        let mut config = tiny(SymmetrySet::Both, 3);
+        let mut config = if obl {
+            let mut c = tiny(SymmetrySet::None, 3);
+            c.obl.level = 1;
+            c
+        } else {
+            tiny(SymmetrySet::Both, 3)
+        };
         config.network.encoder = Some(encoder);
         config.network.memory = memory;
         config.network.head = if encoder.reads_graph() {
@@ -279,7 +287,9 @@ fn ablation_networks_train_resume_exactly_and_play() {
         // Shorter than a rollout, so the window slides within a sequence and across one.
         config.network.trxl_memory = 5;
         let run = |name: &str, stops: &[Option<u64>]| {
-            let dir = tmp.path().join(format!("{encoder:?}-{memory:?}-{name}"));
+            let dir = tmp
+                .path()
+                .join(format!("{encoder:?}-{memory:?}-{obl}-{name}"));
             for (i, &max_updates) in stops.iter().enumerate() {
                 let request = RunRequest {
                     config: &config,
