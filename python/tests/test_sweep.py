@@ -53,6 +53,24 @@ def test_seeds_and_sweep_files_parse(tmp_path):
         sweep.rows_from_args(args)
 
 
+def test_progress_lines_read_the_runs_files(tmp_path):
+    row = sweep.Row("tiny.toml", (0,), tmp_path)
+    run = tmp_path / "seed-0"
+    started = {}
+    assert sweep.progress_line(row, 0, started) == "tiny seed 0: waiting"
+    run.mkdir()
+    (run / "config.toml").write_text("[ppo]\ntotal_steps = 1000\n")
+    # An update in which no training game ended logs "games": null.
+    (run / "metrics.jsonl").write_text(json.dumps({"update": 3, "env_steps": 192, "games": None}) + "\n")
+    assert sweep.progress_line(row, 0, started) == "tiny seed 0: update 3, steps 192/1,000"
+    with open(run / "metrics.jsonl", "a") as f:
+        f.write(json.dumps({"update": 6, "env_steps": 384, "games": {"reward": -2.5}}) + "\n")
+    line = sweep.progress_line(row, 0, started)
+    assert line.startswith("tiny seed 0: update 6, steps 384/1,000, R -2.50, ETA "), line
+    (run / sweep.DONE).write_text("")
+    assert sweep.progress_line(row, 0, started) == "tiny seed 0: finished"
+
+
 def _sweep(config, out, *more):
     return subprocess.Popen(
         [sys.executable, "-m", "yokai.sweep", str(config), "--seeds", "0..3", "--out", str(out),

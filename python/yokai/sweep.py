@@ -174,7 +174,8 @@ def progress_line(row: Row, seed: int, started: dict) -> str:
     if last is None:
         return f"{name}: waiting"
     steps, total = int(last["env_steps"]), _total_steps(run)
-    reward = last.get("games", {}).get("reward")
+    # An update in which no training game finished logs `"games": null`.
+    reward = (last.get("games") or {}).get("reward")
     line = f"{name}: update {last['update']}, steps {steps:,}"
     if total:
         line += f"/{total:,}"
