@@ -108,7 +108,7 @@ def _die_with_parent():  # pragma: no cover - runs in the child between fork and
         pass
 
 
-def train_seed(yokai: str, config: str, seed: int, out: str, threads: int) -> dict:
+def train_seed(yokai: str, config: str, seed: int, out: str, threads: int, device: str = "cpu") -> dict:
     """Train (or resume, or skip) one seed; the body of a Ray task. Returns a summary."""
     run = pathlib.Path(out) / f"seed-{seed}"
     if (run / DONE).exists():
@@ -118,7 +118,7 @@ def train_seed(yokai: str, config: str, seed: int, out: str, threads: int) -> di
     _note(run, f"pid {os.getpid()} {'resumes from its checkpoint' if resume else 'starts'}")
     (run / ".sweep-worker").write_text(str(os.getpid()))
     cmd = [yokai, "train", config, "--seeds", str(seed), "--out", out, "--eval-games", "0",
-           "--threads", str(threads)] + (["--resume"] if resume else [])
+           "--threads", str(threads), "--device", device] + (["--resume"] if resume else [])
     proc = subprocess.run(cmd, capture_output=True, text=True,
                           preexec_fn=_die_with_parent if sys.platform.startswith("linux") else None)
     if proc.returncode != 0:
@@ -189,11 +189,15 @@ def progress_line(row: Row, seed: int, started: dict) -> str:
 
 
 def run_sweep(rows, address=None, cpus_per_seed=1, gpus_per_seed=0.0, max_retries=3,
-              eval_games=1000, yokai=None, num_cpus=None, progress_every=10.0, quiet=False):
+              eval_games=1000, yokai=None, num_cpus=None, progress_every=10.0, quiet=False,
+              device="cpu"):
     """Train every seed of every row as Ray tasks, then evaluate each row; returns
     ``{"runs": [...], "evals": [...], "table": path or None}``. ``num_cpus`` caps a local
     Ray instance (tests)."""
-    import ray
+    try:
+        import ray
+    except ImportError:
+        raise SystemExit("yokai.sweep needs Ray: pip install './python[sweep]' (or pip install ray)") from None
 
     yokai = find_yokai(yokai)
     if not ray.is_initialized():
@@ -205,7 +209,7 @@ def run_sweep(rows, address=None, cpus_per_seed=1, gpus_per_seed=0.0, max_retrie
     for row in rows:
         row.out.mkdir(parents=True, exist_ok=True)
         for seed in row.seeds:
-            refs[task.remote(yokai, row.config, seed, str(row.out), max(1, int(cpus_per_seed)))] = (row, seed)
+            refs[task.remote(yokai, row.config, seed, str(row.out), max(1, int(cpus_per_seed)), device)] = (row, seed)
     started, results, pending = {}, [], list(refs)
     next_report = time.time()
     while pending:
@@ -268,6 +272,8 @@ def main(argv=None):
                                       "start a local Ray instance")
     ap.add_argument("--cpus-per-seed", type=float, default=1, help="CPUs per seed (default 1)")
     ap.add_argument("--gpus-per-seed", type=float, default=0, help="GPUs per seed (default 0)")
+    ap.add_argument("--device", default="cpu", help="where each seed trains: cpu, vulkan or cuda (a yokai "
+                                                     "binary built with that feature; see docs/training.md)")
     ap.add_argument("--max-retries", type=int, default=3, help="retries of a failed seed (default 3)")
     ap.add_argument("--eval-games", type=int, default=1000, help="games per pair in the evaluation; 0 skips it")
     ap.add_argument("--num-cpus", type=int, help="CPUs of the local Ray instance (default: all; "
@@ -282,7 +288,8 @@ def main(argv=None):
         ap.error(str(e))
     result = run_sweep(rows, address=args.address, cpus_per_seed=args.cpus_per_seed,
                        gpus_per_seed=args.gpus_per_seed, max_retries=args.max_retries,
-                       eval_games=args.eval_games, yokai=args.yokai, num_cpus=args.num_cpus)
+                       eval_games=args.eval_games, yokai=args.yokai, num_cpus=args.num_cpus,
+                       device=args.device)
     for r in result["runs"]:
         print(f"seed {r['seed']}: {r['status']}")
     for e in result["evals"]:
