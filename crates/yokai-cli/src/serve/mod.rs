@@ -185,8 +185,13 @@ async fn game_handler(
         None => usize::MAX,
     };
     let table = tables.get(&session, &id).map_err(not_found)?;
-    let t = table.lock().unwrap_or_else(|e| e.into_inner());
-    Ok(Json(game_json(&t, since)))
+    // The game's lock may be held while its bots think: wait for it off the async threads.
+    let json = tokio::task::spawn_blocking(move || {
+        game_json(&table.lock().unwrap_or_else(|e| e.into_inner()), since)
+    })
+    .await
+    .map_err(|e| bad(anyhow::anyhow!("the game could not be read: {e}")))?;
+    Ok(Json(json))
 }
 
 #[derive(Deserialize)]

@@ -26,11 +26,15 @@ pub struct Table {
     pub seed: u64,
 }
 
+/// A game's key: the session it belongs to and its id.
+type GameKey = (String, String);
+
 /// Every game of the server.
 pub struct Tables {
     defaults: Defaults,
     records: PathBuf,
-    games: Mutex<HashMap<String, Arc<Mutex<Table>>>>,
+    /// By (session, game id): a lookup never waits on a game whose bots are thinking.
+    games: Mutex<HashMap<GameKey, Arc<Mutex<Table>>>>,
     next: Mutex<u64>,
 }
 
@@ -103,7 +107,7 @@ impl Tables {
         self.games
             .lock()
             .unwrap_or_else(|e| e.into_inner())
-            .insert(id, table.clone());
+            .insert((session_id.to_string(), id), table.clone());
         Ok(table)
     }
 
@@ -112,13 +116,14 @@ impl Tables {
     pub fn get(&self, session_id: &str, id: &str) -> anyhow::Result<Arc<Mutex<Table>>> {
         check_id("session", session_id)?;
         check_id("game", id)?;
-        if let Some(t) = self.games.lock().unwrap_or_else(|e| e.into_inner()).get(id) {
-            let same = t.lock().unwrap_or_else(|e| e.into_inner()).session_id == session_id;
-            return if same {
-                Ok(t.clone())
-            } else {
-                Err(anyhow!("no game `{id}` in this session"))
-            };
+        let key = (session_id.to_string(), id.to_string());
+        if let Some(t) = self
+            .games
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .get(&key)
+        {
+            return Ok(t.clone());
         }
         let path = self.record_path(session_id, id);
         let text = std::fs::read_to_string(&path)
@@ -143,11 +148,9 @@ impl Tables {
             session,
             seed,
         }));
-        self.games
-            .lock()
-            .unwrap_or_else(|e| e.into_inner())
-            .insert(id.to_string(), table.clone());
-        Ok(table)
+        // Two requests may have read the record at once: the first one in is the game.
+        let mut games = self.games.lock().unwrap_or_else(|e| e.into_inner());
+        Ok(games.entry(key).or_insert(table).clone())
     }
 
     /// Play `action` (an index) for `seat`, which must be the human to act; then the bots.
