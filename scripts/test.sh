@@ -10,6 +10,9 @@ cargo clippy --workspace --all-targets --release -- -D warnings
 # The GPU build (burn's Vulkan runtime) is compiled, not run: CI has no GPU, and this keeps
 # `--features vulkan` from rotting (docs/training.md, "Training on a GPU").
 cargo clippy -p yokai-cli --features vulkan --release -- -D warnings
+# The Python extension without the trainer (no burn), as `MATURIN_PEP517_ARGS=
+# --no-default-features pip install ./python` builds it (docs/python.md).
+cargo clippy -p yokai-python --no-default-features --release -- -D warnings
 cargo test --workspace --release
 
 # Python: a fresh machine needs nothing but python3 (with venv) and the Rust toolchain.

@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use yokai_agents::{Policy, PolicySpec};
 use yokai_engine::{Config, Game, Seat};
+#[cfg(feature = "trained")]
 use yokai_train::TrainedPolicy;
 
 /// A built-in policy by name (``"random"``, ``"greedy"``, ``"belief"``, with parameters as
@@ -34,11 +35,15 @@ impl PyAgent {
 
     /// A trained network fits only the game it was trained on.
     fn check_game(&self, game: &Game) -> PyResult<()> {
+        // Without the trainer no agent is a trained one: nothing to check.
+        #[cfg(not(feature = "trained"))]
+        let _ = game;
         match &self.trained {
+            #[cfg(feature = "trained")]
             Some((path, trained)) => {
                 yokai_train::policy::check_game(path, trained, game.config()).map_err(config_error)
             }
-            None => Ok(()),
+            _ => Ok(()),
         }
     }
 }
@@ -49,9 +54,8 @@ impl PyAgent {
     #[pyo3(signature = (name, seed=0))]
     fn new(name: &str, seed: u64) -> PyResult<Self> {
         let (label, trained, mut policy) = if Path::new(name).exists() {
-            let policy = TrainedPolicy::load(Path::new(name)).map_err(config_error)?;
-            let about = (policy.path().to_path_buf(), *policy.game());
-            (name.to_string(), Some(about), policy.build(seed))
+            let (about, policy) = load_trained(name, seed)?;
+            (name.to_string(), Some(about), policy)
         } else {
             let spec: PolicySpec = name.parse().map_err(config_error)?;
             (spec.to_string(), None, spec.build(seed))
@@ -107,9 +111,28 @@ impl PyAgent {
     }
 }
 
+/// A trained policy file, checkpoint or run directory, seated with `seed`.
+#[cfg(feature = "trained")]
+fn load_trained(name: &str, seed: u64) -> PyResult<((PathBuf, Config), Box<dyn Policy>)> {
+    let policy = TrainedPolicy::load(Path::new(name)).map_err(config_error)?;
+    Ok((
+        (policy.path().to_path_buf(), *policy.game()),
+        policy.build(seed),
+    ))
+}
+
+#[cfg(not(feature = "trained"))]
+fn load_trained(name: &str, _seed: u64) -> PyResult<((PathBuf, Config), Box<dyn Policy>)> {
+    Err(config_error(format!(
+        "`{name}` is a trained policy, but this build of yokai has no trained-policy support \
+         (built with --no-default-features): install it with the default features"
+    )))
+}
+
 /// Every parameter of the trained network at ``path`` (policy file, checkpoint or run
 /// directory), flattened in the network's order as float32: to check that two runs trained
 /// the same network (the files themselves also hold per-process parameter ids).
+#[cfg(feature = "trained")]
 #[pyfunction]
 pub fn policy_parameters<'py>(
     py: Python<'py>,

@@ -9,6 +9,7 @@ mod agent;
 mod arrays;
 mod env;
 mod errors;
+#[cfg(feature = "trained")]
 mod probe;
 mod vec_env;
 
@@ -37,9 +38,12 @@ fn yokai_core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<agent::PyAgent>()?;
     m.add_function(wrap_pyfunction!(episode_seed, m)?)?;
     m.add_function(wrap_pyfunction!(configs, m)?)?;
-    m.add_function(wrap_pyfunction!(agent::policy_parameters, m)?)?;
-    m.add_function(wrap_pyfunction!(probe::probe_records, m)?)?;
-    m.add_function(wrap_pyfunction!(probe::probe_accuracy, m)?)?;
+    #[cfg(feature = "trained")]
+    {
+        m.add_function(wrap_pyfunction!(agent::policy_parameters, m)?)?;
+        m.add_function(wrap_pyfunction!(probe::probe_records, m)?)?;
+        m.add_function(wrap_pyfunction!(probe::probe_accuracy, m)?)?;
+    }
     m.add("YokaiError", py.get_type::<errors::YokaiError>())?;
     m.add("ConfigError", py.get_type::<errors::ConfigError>())?;
     m.add(

@@ -21,10 +21,19 @@ from ._core import (
     __version__,
     configs,
     episode_seed,
-    policy_parameters,
-    probe_accuracy,
-    probe_records,
 )
+
+try:  # absent from a wheel built with --no-default-features (no trainer, no burn)
+    from ._core import policy_parameters, probe_accuracy, probe_records
+except ImportError:  # pragma: no cover - exercised by the no-default-features build only
+
+    def _needs_trainer(*_args, **_kwargs):
+        raise RuntimeError(
+            "this build of yokai has no trainer (built with --no-default-features): "
+            "install it with the default features for trained policies and probes"
+        )
+
+    policy_parameters = probe_accuracy = probe_records = _needs_trainer
 
 __all__ = [
     "ConfigError",
