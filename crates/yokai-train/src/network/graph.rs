@@ -163,7 +163,13 @@ impl GraphEncoder {
         let [b, _] = obs.dims();
         let device = obs.device();
         let x: Tensor<3> = obs.reshape([b, n, f]);
-        let edges = self.edges(x.clone());
+        // What the layers read of the edges, computed once for all of them: the normalised
+        // adjacency (GCN) or the attention mask (GATv2); the relation module reads none.
+        let structure = match self.layers.first() {
+            Some(GraphLayer::Gcn(_)) => Some(GcnLayer::normalise(self.edges(x.clone()))),
+            Some(GraphLayer::Gatv2(_)) => Some(GatLayer::mask(self.edges(x.clone()))),
+            _ => None,
+        };
         let real = Tensor::cat(vec![x, Tensor::zeros([b, n, 1], &device)], 2);
         let virtual_node = Tensor::cat(
             vec![
@@ -174,10 +180,11 @@ impl GraphEncoder {
         );
         let mut h = relu(self.input.forward(Tensor::cat(vec![real, virtual_node], 1)));
         for layer in &self.layers {
-            h = match layer {
-                GraphLayer::Gcn(l) => h.clone() + l.forward(h, edges.clone()),
-                GraphLayer::Gatv2(l) => h.clone() + l.forward(h, edges.clone()),
-                GraphLayer::Relation(l) => l.forward(h),
+            h = match (layer, &structure) {
+                (GraphLayer::Gcn(l), Some(a)) => h.clone() + l.forward(h, a.clone()),
+                (GraphLayer::Gatv2(l), Some(m)) => h.clone() + l.forward(h, m.clone()),
+                (GraphLayer::Relation(l), _) => l.forward(h),
+                _ => unreachable!("every layer of an encoder is of one kind"),
             };
         }
         h
@@ -212,17 +219,25 @@ impl GraphEncoder {
 }
 
 impl GcnLayer {
-    fn forward(&self, h: Tensor<3>, edges: Tensor<3>) -> Tensor<3> {
+    /// `D^-½ (A + I) D^-½` from the edges with self-loops.
+    fn normalise(edges: Tensor<3>) -> Tensor<3> {
         let [b, v, _] = edges.dims();
         let scale = edges.clone().sum_dim(2).powf_scalar(-0.5);
-        let normalised =
-            edges * scale.clone().expand([b, v, v]) * scale.swap_dims(1, 2).expand([b, v, v]);
+        edges * scale.clone().expand([b, v, v]) * scale.swap_dims(1, 2).expand([b, v, v])
+    }
+
+    fn forward(&self, h: Tensor<3>, normalised: Tensor<3>) -> Tensor<3> {
         relu(normalised.matmul(self.weight.forward(h)))
     }
 }
 
 impl GatLayer {
-    fn forward(&self, h: Tensor<3>, edges: Tensor<3>) -> Tensor<3> {
+    /// `[B, V, V]`: 0 on the edges, −10⁹ elsewhere (nothing after the softmax).
+    fn mask(edges: Tensor<3>) -> Tensor<3> {
+        (edges - 1.0).mul_scalar(1e9)
+    }
+
+    fn forward(&self, h: Tensor<3>, blocked: Tensor<3>) -> Tensor<3> {
         let [b, v, d] = h.dims();
         let (heads, dh) = (GRAPH_HEADS, d / GRAPH_HEADS);
         let source = self.source.forward(h.clone());
@@ -235,9 +250,11 @@ impl GatLayer {
             .reshape([b, v, v, heads, dh])
             .sum_dim(4)
             .reshape([b, v, v, heads]);
-        // Non-neighbours get −10⁹, nothing after the softmax.
-        let blocked = (edges - 1.0).mul_scalar(1e9).reshape([b, v, v, 1]);
-        let alpha = softmax(scores + blocked.expand([b, v, v, heads]), 2).permute([0, 3, 1, 2]);
+        let alpha = softmax(
+            scores + blocked.reshape([b, v, v, 1]).expand([b, v, v, heads]),
+            2,
+        )
+        .permute([0, 3, 1, 2]);
         let messages = source.reshape([b, v, heads, dh]).permute([0, 2, 1, 3]);
         relu(
             alpha

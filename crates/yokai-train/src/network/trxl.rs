@@ -45,12 +45,15 @@ pub struct TransformerXl {
     shape: Shape,
 }
 
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 struct Shape {
     width: usize,
     heads: usize,
     window: usize,
     gate_bias: f32,
+    /// The sinusoids of the slots' ages, `(window + 1) × width`, computed once: a step
+    /// only copies them to the device.
+    ages: Vec<f32>,
 }
 
 /// GTrXL's GRU-type gate joining a sub-layer's output `y` to its input `x`:
@@ -110,6 +113,7 @@ impl Recurrent for TransformerXl {
                 heads: network.trxl_heads,
                 window: network.trxl_memory,
                 gate_bias: network.trxl_gate_bias as f32,
+                ages: ages(network.trxl_memory, d),
             },
         }
     }
@@ -141,6 +145,7 @@ impl Recurrent for TransformerXl {
             heads,
             window: m,
             gate_bias,
+            ref ages,
         } = self.shape;
         let dh = d / heads;
         let [b, _] = x.dims();
@@ -149,8 +154,9 @@ impl Recurrent for TransformerXl {
         let valid = state.narrow(1, d + m * d, m);
         // The window and the current input, oldest first, each normalised, plus its age.
         let sequence = Tensor::cat(vec![past.clone(), x.clone().reshape([b, 1, d])], 1);
-        let normed =
-            self.norm_attention.forward(sequence) + ages(m, d, &device).expand([b, m + 1, d]);
+        let ages: Tensor<3> =
+            Tensor::from_data(TensorData::new(ages.clone(), [1, m + 1, d]), &device);
+        let normed = self.norm_attention.forward(sequence) + ages.expand([b, m + 1, d]);
         let current = normed.clone().narrow(1, m, 1).reshape([b, d]);
         let q = self.query.forward(current).reshape([b, heads, 1, dh]);
         let split = |t: Tensor<3>| t.reshape([b, m + 1, heads, dh]).swap_dims(1, 2);
@@ -179,9 +185,9 @@ impl Recurrent for TransformerXl {
     }
 }
 
-/// Sinusoidal embeddings `[1, m + 1, d]` of the ages m, m − 1, …, 0 of the window's slots
+/// Sinusoidal embeddings `(m + 1) × d` of the ages m, m − 1, …, 0 of the window's slots
 /// (oldest first) and the current step (Vaswani et al.'s frequencies).
-fn ages(m: usize, d: usize, device: &Device) -> Tensor<3> {
+fn ages(m: usize, d: usize) -> Vec<f32> {
     let mut table = vec![0f32; (m + 1) * d];
     for slot in 0..=m {
         let age = (m - slot) as f64;
@@ -191,7 +197,7 @@ fn ages(m: usize, d: usize, device: &Device) -> Tensor<3> {
             table[slot * d + 2 * i + 1] = angle.cos() as f32;
         }
     }
-    Tensor::from_data(TensorData::new(table, [1, m + 1, d]), device)
+    table
 }
 
 #[cfg(test)]
