@@ -102,6 +102,19 @@ fn play_out(server: &Server, mut game: Value, k: usize) -> Value {
         let pick = legal[(k + moves) % legal.len()]["index"].as_u64().unwrap();
         let (status, next) = server.act(&game, pick);
         assert_eq!(status, 200, "{next}");
+        // One board per step played since (this action and the bots' after it), the last
+        // one the board now.
+        let (before, now) = (
+            game["board"]["step"].as_u64(),
+            next["board"]["step"].as_u64(),
+        );
+        let frames = next["frames"].as_array().unwrap();
+        assert_eq!(
+            frames.len() as u64,
+            now.unwrap() - before.unwrap(),
+            "{next}"
+        );
+        assert_eq!(frames.last(), Some(&next["board"]));
         game = next;
         moves += 1;
         assert!(moves < 500, "the game does not end");
@@ -127,14 +140,10 @@ fn tempdir() -> tempfile::TempDir {
 fn a_scripted_player_plays_a_whole_game_and_its_record_is_the_game_shown() {
     let tmp = tempdir();
     let server = Server::start(tmp.path(), "human,belief");
-    let (status, page) = (
-        ureq::get(&format!("{}/", server.base))
-            .call()
-            .unwrap()
-            .status(),
-        (),
-    );
-    assert_eq!((status, page), (200, ()));
+    // The page itself, built into the binary.
+    let page = ureq::get(&format!("{}/", server.base)).call().unwrap();
+    assert_eq!(page.status(), 200);
+    assert!(page.into_string().unwrap().contains("<title>Yōkai</title>"));
     let game = server.new_game("player1", json!({ "seed": 11 }));
     assert_eq!(game["seats"], json!(["human", "belief"]));
     // Only seat 0's own knowledge is sent: no colour before it observes anything.

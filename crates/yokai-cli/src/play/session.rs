@@ -4,7 +4,7 @@
 
 use anyhow::{anyhow, bail};
 use yokai_agents::Policy;
-use yokai_engine::{derive_seed, Action, Config, Game, RecordedGame, Replay, Seat};
+use yokai_engine::{derive_seed, Action, Config, EpisodeRecord, Game, RecordedGame, Replay, Seat};
 
 /// Who holds a seat.
 pub enum Player {
@@ -284,6 +284,11 @@ impl Session {
             }
         }
         Ok(())
+    }
+
+    /// The game so far: its deal and actions.
+    pub fn record(&self) -> &EpisodeRecord {
+        self.game.record()
     }
 
     /// The game so far as a replay file.

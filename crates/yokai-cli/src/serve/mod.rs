@@ -35,7 +35,7 @@ use std::collections::HashMap;
 use std::path::PathBuf;
 use std::sync::Arc;
 pub use tables::{Defaults, Tables};
-use yokai_engine::{Config, DealSource, Game, Replay, Seat};
+use yokai_engine::{Config, EpisodeRecord, Game, Replay, ReplayError, Seat};
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -145,6 +145,15 @@ fn parse<T: for<'de> Deserialize<'de>>(body: &str) -> Result<T, ApiError> {
 
 type Api = Result<Json<Value>, ApiError>;
 
+/// Run `work` off the async threads (it may load a network, let bots think, or wait for a
+/// game whose bots are thinking); its error becomes a 400 answer.
+async fn blocking(work: impl FnOnce() -> anyhow::Result<Value> + Send + 'static) -> Api {
+    match tokio::task::spawn_blocking(work).await {
+        Ok(out) => out.map(Json).map_err(bad),
+        Err(e) => Err(bad(anyhow::anyhow!("the request could not be served: {e}"))),
+    }
+}
+
 async fn config_handler(State(tables): State<Arc<Tables>>) -> Json<Value> {
     let d = tables.defaults();
     Json(json!({ "config": d.config.to_string(), "seats": d.seats, "players": d.config.players() }))
@@ -162,14 +171,12 @@ struct NewGame {
 async fn create_handler(State(tables): State<Arc<Tables>>, body: String) -> Api {
     let req: NewGame = parse(&body)?;
     // Loading a trained policy reads a file: off the async threads.
-    let table = tokio::task::spawn_blocking(move || {
+    blocking(move || {
         let t = tables.create(&req.session, req.config.as_deref(), req.seats, req.seed)?;
         let json = game_json(&t.lock().unwrap_or_else(|e| e.into_inner()), 0);
-        anyhow::Ok(json)
+        Ok(json)
     })
     .await
-    .map_err(|e| bad(anyhow::anyhow!("the game could not be set up: {e}")))?;
-    table.map(Json).map_err(bad)
 }
 
 async fn game_handler(
@@ -186,12 +193,13 @@ async fn game_handler(
     };
     let table = tables.get(&session, &id).map_err(not_found)?;
     // The game's lock may be held while its bots think: wait for it off the async threads.
-    let json = tokio::task::spawn_blocking(move || {
-        game_json(&table.lock().unwrap_or_else(|e| e.into_inner()), since)
+    blocking(move || {
+        Ok(game_json(
+            &table.lock().unwrap_or_else(|e| e.into_inner()),
+            since,
+        ))
     })
     .await
-    .map_err(|e| bad(anyhow::anyhow!("the game could not be read: {e}")))?;
-    Ok(Json(json))
 }
 
 #[derive(Deserialize)]
@@ -210,15 +218,13 @@ async fn action_handler(
     let req: Act = parse(&body)?;
     let table = tables.get(&req.session, &id).map_err(not_found)?;
     // Bots (a trained network, the belief bot) may think for a while: off the async threads.
-    let out = tokio::task::spawn_blocking(move || {
+    blocking(move || {
         let mut t = table.lock().unwrap_or_else(|e| e.into_inner());
         let before = t.session.game().steps();
         tables.act(&mut t, req.seat, req.action)?;
-        anyhow::Ok(game_json(&t, before))
+        Ok(game_json(&t, before))
     })
     .await
-    .map_err(|e| bad(anyhow::anyhow!("the action could not be played: {e}")))?;
-    out.map(Json).map_err(bad)
 }
 
 #[derive(Deserialize)]
@@ -265,7 +271,8 @@ async fn replay_handler(
 
 async fn replay_view_handler(body: String) -> Api {
     let replay = Replay::from_jsonl(&body).map_err(|e| bad(anyhow::anyhow!("{e}")))?;
-    let frames = replay_frames(&replay).map_err(bad)?;
+    // Every board with all colours shown: a replay is watched after the fact.
+    let frames = boards_after(&replay.record(), 0, view::truth_view).map_err(|e| bad(e.into()))?;
     Ok(Json(json!({
         "config": replay.header.config.to_string(),
         "seats": replay.header.seats,
@@ -291,21 +298,12 @@ fn game_json(t: &tables::Table, since: usize) -> Value {
     let curtain = s.curtain();
     let board = (!curtain).then(|| view::seat_view(s.game(), viewer));
     let steps = s.game().steps();
-    let frames: Vec<Value> = if curtain || since >= steps {
+    let frames = if curtain || since >= steps {
         Vec::new()
     } else {
         // The viewer's board after each step since `since` (a game is a few dozen steps).
-        let record = s.replay().record();
-        let mut game = initial_game(&record.deal, record.config);
-        let mut out = Vec::new();
-        for (i, &a) in record.actions.iter().enumerate() {
-            game.apply_index(a as usize)
-                .expect("a recorded game replays");
-            if i + 1 > since {
-                out.push(view::seat_view(&game, viewer));
-            }
-        }
-        out
+        boards_after(s.record(), since + 1, |g| view::seat_view(g, viewer))
+            .expect("a game played through the rules replays")
     };
     json!({
         "id": t.id,
@@ -323,24 +321,23 @@ fn game_json(t: &tables::Table, since: usize) -> Value {
     })
 }
 
-fn initial_game(deal: &DealSource, config: Config) -> Game {
-    match deal {
-        DealSource::Seed(seed) => Game::new(config, *seed),
-        DealSource::Explicit(deal) => {
-            Game::from_deal(config, deal).expect("a recorded deal is valid")
+/// `board(game)` of the game after each step from `first` (0: the deal) to the end.
+fn boards_after(
+    record: &EpisodeRecord,
+    first: usize,
+    board: impl Fn(&Game) -> Value,
+) -> Result<Vec<Value>, ReplayError> {
+    let mut out = Vec::new();
+    let mut step = 0;
+    // `replay_with` shows the game before each action: the game after `step` steps.
+    let end = record.replay_with(|before, _, _| {
+        if step >= first {
+            out.push(board(before));
         }
+        step += 1;
+    })?;
+    if step >= first {
+        out.push(board(&end));
     }
-}
-
-/// Every board of a replay with all colours shown (a replay is watched after the fact).
-fn replay_frames(replay: &Replay) -> anyhow::Result<Vec<Value>> {
-    let record = replay.record();
-    let mut game = initial_game(&record.deal, record.config);
-    let mut frames = vec![view::truth_view(&game)];
-    for (i, &a) in record.actions.iter().enumerate() {
-        game.apply_index(a as usize)
-            .map_err(|e| anyhow::anyhow!("step {i}: {e}"))?;
-        frames.push(view::truth_view(&game));
-    }
-    Ok(frames)
+    Ok(out)
 }

@@ -2,7 +2,7 @@
 //! leaves the server (the true colours only once the game is over).
 
 use serde_json::{json, Value};
-use yokai_engine::{Action, Card, Game, HintSlot, Seat};
+use yokai_engine::{Action, Card, Game, HintSlot, Seat, Substep};
 
 /// The board as `seat` sees it, with the legal actions when `seat` is to act.
 pub fn seat_view(game: &Game, seat: Seat) -> Value {
@@ -18,6 +18,7 @@ pub fn truth_view(game: &Game) -> Value {
 fn board(game: &Game, seat: Seat, all: bool) -> Value {
     let config = game.config();
     let view = game.view(seat);
+    let public = view.public();
     let over = game.is_over();
     let cards: Vec<Value> = (0..config.cards())
         .map(|k| {
@@ -34,16 +35,15 @@ fn board(game: &Game, seat: Seat, all: bool) -> Value {
                 "col": cell.col,
                 "colour": colour.map(|c| c.name()),
                 "hint": game.hint_on(card).map(|h| h.0),
-                "observed": view.public().turn_observed() >> k & 1 == 1,
+                "observed": public.turn_observed() >> k & 1 == 1,
             })
         })
         .collect();
-    let revealed = game.view(seat).public();
     let hints: Vec<Value> = (0..config.hints())
         .map(|h| {
             let slot = HintSlot(h as u8);
-            let card = revealed.hint_card(slot);
-            let colours = revealed.revealed_hint(slot);
+            let card = public.hint_card(slot);
+            let colours = public.revealed_hint(slot);
             let state = match (card, colours) {
                 (Some(_), _) => "placed",
                 (None, Some(_)) => "revealed",
@@ -77,8 +77,7 @@ fn board(game: &Game, seat: Seat, all: bool) -> Value {
         "step": game.steps(),
         "over": over,
         "outcome": game.outcome(),
-        "last_action": view
-            .public()
+        "last_action": public
             .last_action()
             .map(|(s, a)| json!({"seat": s.0, "name": a.to_string()})),
         "legal": legal,
@@ -103,10 +102,10 @@ fn substep_name(game: &Game) -> &'static str {
     if game.is_over() {
         return "game over";
     }
-    match game.substep() as u8 {
-        0 => "observe a card or end the game",
-        1 => "observe a second card",
-        2 => "move a card",
-        _ => "reveal or place a hint",
+    match game.substep() {
+        Substep::FirstObserve => "observe a card or end the game",
+        Substep::SecondObserve => "observe a second card",
+        Substep::Move => "move a card",
+        Substep::Hint => "reveal or place a hint",
     }
 }
