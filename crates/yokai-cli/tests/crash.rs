@@ -84,7 +84,9 @@ fn a_run_killed_twenty_times_and_resumed_equals_an_uninterrupted_run() {
         match child.try_wait().unwrap() {
             Some(status) => {
                 assert!(status.success(), "attempt {attempts} failed: {status}");
-                if kills >= 20 {
+                // Where a kill lands is timing: with about one kill in ten inside a write,
+                // 20 kills sometimes miss every write, so the run goes on until one hits.
+                if kills >= 20 && mid_write >= 1 {
                     break;
                 }
                 // Finished before enough kills: start the whole run again.
