@@ -36,6 +36,12 @@ pub struct Args {
     /// Also save this many games of every pair as replay files in OUT/replays.
     #[arg(long, default_value_t = 0, requires = "out")]
     replays: u64,
+    /// How trained policies choose END: `file` (as each one's training config says,
+    /// `act.end_threshold`), `draw` (like any other action), or a probability P in (0, 1)
+    /// (END wherever the network gives it more than P, else never). Bots keep their own
+    /// rules. A trained policy that decides END is named with its threshold in the tables.
+    #[arg(long, default_value = "file")]
+    end: EndRule,
 }
 
 /// One entry of the cross-play table: the games of the policies in `row` and `col`.
@@ -43,6 +49,33 @@ pub struct PairResult {
     pub row: usize,
     pub col: usize,
     pub metrics: Metrics,
+}
+
+/// How the trained policies of an evaluation choose END (`--end`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum EndRule {
+    /// As each policy's training config says.
+    File,
+    /// Drawn like any other action.
+    Draw,
+    /// END where P(END) exceeds the threshold.
+    Threshold(f32),
+}
+
+impl std::str::FromStr for EndRule {
+    type Err = String;
+    fn from_str(s: &str) -> Result<EndRule, String> {
+        match s {
+            "file" => Ok(EndRule::File),
+            "draw" => Ok(EndRule::Draw),
+            _ => match s.parse::<f32>() {
+                Ok(t) if t > 0.0 && t < 1.0 => Ok(EndRule::Threshold(t)),
+                _ => Err(format!(
+                    "`{s}` is not an END rule: `file`, `draw` or a probability in (0, 1)"
+                )),
+            },
+        }
+    }
 }
 
 /// A policy in an evaluation: a built-in bot or a trained network.
@@ -68,8 +101,26 @@ impl Entry {
     pub fn name(&self) -> String {
         match self {
             Entry::Builtin(spec) => spec.to_string(),
-            Entry::Trained(p) => run_dir_of(p.path()).display().to_string(),
+            Entry::Trained(p) => {
+                let dir = run_dir_of(p.path()).display().to_string();
+                match p.end_threshold() {
+                    Some(t) => format!("{dir} (END > {t})"),
+                    None => dir,
+                }
+            }
         }
+    }
+
+    /// Make a trained policy choose END by `rule` (bots keep their own rules).
+    pub fn set_end_rule(&mut self, rule: EndRule) -> anyhow::Result<()> {
+        if let Entry::Trained(p) = self {
+            match rule {
+                EndRule::File => {}
+                EndRule::Draw => p.set_end_threshold(None)?,
+                EndRule::Threshold(t) => p.set_end_threshold(Some(t))?,
+            }
+        }
+        Ok(())
     }
 
     pub fn build(&self, seed: u64) -> Box<dyn Policy> {
@@ -153,10 +204,13 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     if args.games == 0 {
         bail!("--games must be at least 1");
     }
-    let entries = expand(&args.policies)?
+    let mut entries = expand(&args.policies)?
         .iter()
         .map(|p| Entry::parse(p))
         .collect::<Result<Vec<_>, _>>()?;
+    for entry in &mut entries {
+        entry.set_end_rule(args.end)?;
+    }
     // Trained policies bring their game; a --config must agree with it.
     let config = match (
         &args.config,
@@ -320,6 +374,11 @@ pub fn groups_of(entries: &[Entry]) -> Vec<(String, Vec<usize>)> {
             .map(|d| d.display().to_string())
             .filter(|d| !d.is_empty())
             .unwrap_or_else(|| run.display().to_string());
+        // Seeds that choose END by different rules are different methods.
+        let method = match p.end_threshold() {
+            Some(t) => format!("{method} (END > {t})"),
+            None => method,
+        };
         match groups.iter_mut().find(|(m, _)| *m == method) {
             Some((_, members)) => members.push(i),
             None => groups.push((method, vec![i])),

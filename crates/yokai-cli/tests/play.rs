@@ -277,6 +277,38 @@ fn train_then_eval_a_run_directory() {
     let (a, b) = (yokai(&args), yokai(&args));
     assert!(a.status.success(), "{}", text(&a));
     assert_eq!(a.stdout, b.stdout, "same policies and seed, same table");
+    // --end decides END: at a threshold of 0.99 the barely trained network never ends a
+    // game early (its P(END) is a few per cent), drawing it ends some; the tables name
+    // the rule, and a rule that is not one is refused.
+    let early_ends = |rule: &str| {
+        let out = yokai(&[
+            "eval",
+            run.to_str().unwrap(),
+            "--games",
+            "100",
+            "--end",
+            rule,
+        ]);
+        let t = text(&out);
+        assert!(out.status.success(), "{t}");
+        // The self-play row: | name | R | win % | SEE % | EE % | WEE % | LEN |.
+        let row = t
+            .lines()
+            .find(|l| l.contains("seed-0") && !l.contains(" + "))
+            .unwrap()
+            .to_string();
+        let ee: f64 = row.split('|').nth(5).unwrap().trim().parse().unwrap();
+        (row, ee)
+    };
+    let (decided, ee) = early_ends("0.99");
+    assert!(
+        decided.contains("seed-0 (END > 0.99)") && ee == 0.0,
+        "{decided}"
+    );
+    let (drawn, ee) = early_ends("draw");
+    assert!(!drawn.contains("END >") && ee > 0.0, "{drawn}");
+    let t = text(&yokai(&["eval", run.to_str().unwrap(), "--end", "1.5"]));
+    assert!(t.contains("`1.5` is not an END rule"), "{t}");
     // Starting the same run again is refused; --resume with nothing left to do is fine.
     let args = [
         "train",

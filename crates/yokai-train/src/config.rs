@@ -19,7 +19,25 @@ pub struct TrainConfig {
     pub ppo: PpoConfig,
     /// Off-Belief Learning (off unless `obl.level` ≥ 1).
     pub obl: OblConfig,
+    /// How the trained policy acts outside training (eval, play, serve, Python).
+    pub act: ActConfig,
     pub run: RunConfig,
+}
+
+/// How a trained policy turns its action distribution into a move when it plays (`yokai
+/// eval`, `play`, `serve`, Python); training's rollouts always sample.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ActConfig {
+    /// Decide END instead of drawing it: wherever END is legal, END if its probability
+    /// exceeds this threshold, else a move drawn from the other legal actions. With the
+    /// target form of `ppo.end_lookahead`, P(END) is trained towards "ending beats playing
+    /// on", so it estimates the chance that it does; drawing END from it at every turn ends
+    /// many unsure boards on a coin flip (docs/training.md), while 0.5 ends exactly where
+    /// the network thinks ending more likely right than wrong. Absent (every preset but
+    /// `cpu`): END is drawn like any action.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub end_threshold: Option<f32>,
 }
 
 /// Off-Belief Learning (docs/training.md): the value target of each of a seat's actions
@@ -294,6 +312,7 @@ impl Default for TrainConfig {
             network: NetworkConfig::default(),
             ppo: PpoConfig::default(),
             obl: OblConfig::default(),
+            act: ActConfig::default(),
             run: RunConfig::default(),
         }
     }
@@ -487,6 +506,14 @@ impl TrainConfig {
                 "must be positive",
             );
         }
+        if let Some(t) = self.act.end_threshold {
+            if !(t > 0.0 && t < 1.0) {
+                return bad(
+                    "act.end_threshold",
+                    "must lie in (0, 1): a probability of END",
+                );
+            }
+        }
         if !(p.end_lookahead >= 0.0 && p.end_lookahead.is_finite()) {
             return bad("ppo.end_lookahead", "must be a number ≥ 0");
         }
@@ -625,6 +652,24 @@ mod tests {
         assert_eq!(c.ppo.belief_aux, 0.0);
         assert_eq!(c.ppo.cluster_shaping, 0.0);
         assert!(!c.ppo.entropy_normalized);
+        assert_eq!(c.act.end_threshold, None);
+    }
+
+    #[test]
+    fn the_end_threshold_is_a_probability_and_survives_the_round_trip() {
+        let c = TrainConfig::from_toml_str("[act]\nend_threshold = 0.5\n", "a.toml").unwrap();
+        assert_eq!(c.act.end_threshold, Some(0.5));
+        let again = TrainConfig::from_toml_str(&c.to_toml(), "saved").unwrap();
+        assert_eq!(again, c);
+        // Without it the saved config has no [act] field at all.
+        assert!(!TrainConfig::default().to_toml().contains("end_threshold"));
+        for bad in ["0.0", "1.0", "1.5", "-0.1", "nan"] {
+            let e = refused(&format!("[act]\nend_threshold = {bad}\n"), "a.toml");
+            assert!(
+                e.contains("act.end_threshold") && e.contains("a.toml"),
+                "{bad}: {e}"
+            );
+        }
     }
 
     #[test]

@@ -2,7 +2,7 @@
 //! then seat the network anywhere a built-in bot can sit (`yokai eval`, Python, `play`).
 
 use crate::config::{EncoderKind, MemoryKind, TrainConfig};
-use crate::distribution::sample_row;
+use crate::distribution::{decide_end_row, sample_row};
 use crate::file::Container;
 use crate::network::{
     ActorCritic, CnnEncoder, Encoder, GraphEncoder, GruCell, MlpEncoder, Recurrent, TransformerXl,
@@ -110,6 +110,8 @@ pub struct TrainedPolicy {
     header: FileHeader,
     path: PathBuf,
     device: Device,
+    /// `act.end_threshold` of the file's config, unless overridden.
+    end_threshold: Option<f32>,
 }
 
 impl TrainedPolicy {
@@ -136,11 +138,32 @@ impl TrainedPolicy {
         };
         Ok(TrainedPolicy {
             net,
+            end_threshold: config.act.end_threshold,
             game: opened.game,
             header: opened.header,
             path: opened.path,
             device,
         })
+    }
+
+    /// How the policy chooses END when it plays: `Some(t)` decides it (END where P(END) > t,
+    /// see `act.end_threshold`), `None` draws it like any action.
+    pub fn end_threshold(&self) -> Option<f32> {
+        self.end_threshold
+    }
+    /// Play with another END rule than the file's (`yokai eval --end-threshold`); a
+    /// threshold outside (0, 1) is refused.
+    pub fn set_end_threshold(&mut self, threshold: Option<f32>) -> Result<(), TrainError> {
+        if let Some(t) = threshold {
+            if !(t > 0.0 && t < 1.0) {
+                return Err(TrainError::Mismatch {
+                    path: self.path.display().to_string(),
+                    message: format!("an END threshold must lie in (0, 1), not {t}"),
+                });
+            }
+        }
+        self.end_threshold = threshold;
+        Ok(())
     }
 
     /// The game the network was trained on (its observation and action sizes fit only it).
@@ -249,6 +272,9 @@ pub struct NetworkPolicy<E: Encoder, M: Recurrent = GruCell> {
     /// Set when `act` already stepped the memory for the current game step.
     stepped: bool,
     rng: ChaCha8Rng,
+    /// The END rule and END's action index.
+    end_threshold: Option<f32>,
+    end: usize,
 }
 
 impl<E: Encoder, M: Recurrent> NetworkPolicy<E, M> {
@@ -263,6 +289,8 @@ impl<E: Encoder, M: Recurrent> NetworkPolicy<E, M> {
             mask: vec![0.0; from.game.num_actions()],
             stepped: false,
             rng: ChaCha8Rng::seed_from_u64(seed),
+            end_threshold: from.end_threshold,
+            end: from.game.encode(Action::End),
         }
     }
 
@@ -308,7 +336,10 @@ impl<E: Encoder, M: Recurrent> Policy for NetworkPolicy<E, M> {
         self.stepped = true;
         view.write_legal_mask(&mut self.mask);
         let u = crate::distribution::unit_draw(&mut self.rng);
-        let (a, _, _) = sample_row(&logits, &self.mask, u, false);
+        let a = match self.end_threshold {
+            Some(t) => decide_end_row(&logits, &self.mask, u, self.end, t),
+            None => sample_row(&logits, &self.mask, u, false).0,
+        };
         view.config()
             .decode(a)
             .expect("sampled among the legal actions of this config")
