@@ -2,10 +2,17 @@
 
 import pathlib
 import subprocess
+import sys
 
+import numpy as np
 import pytest
 
 import yokai
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover
+    import tomli as tomllib
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 BINARY = ROOT / "target" / "release" / "yokai"
@@ -90,3 +97,31 @@ def test_ablation_networks_load_and_play(network, tmp_path):
     for seed in range(3):
         env = yokai.play("9c-2p-perfect", [agent, yokai.Agent("greedy", seed)], seed=seed)
         assert env.done and env.outcome is not None
+
+
+def test_an_export_holds_the_networks_weights_and_what_rebuilds_its_inputs(run_dir, tmp_path):
+    """``yokai export`` writes SafeTensors that the ecosystem's own reader loads: the same
+    numbers as the policy's parameters, and the training config and game as metadata."""
+    safetensors_numpy = pytest.importorskip("safetensors.numpy")
+    from safetensors import safe_open
+
+    out = tmp_path / "net.safetensors"
+    subprocess.run([str(BINARY), "export", str(run_dir), "--out", str(out)], check=True, capture_output=True)
+    tensors = safetensors_numpy.load_file(str(out))
+    params = yokai.policy_parameters(str(run_dir))
+    flat = np.concatenate([t.ravel() for t in tensors.values()])
+    # Every parameter once (the file orders tensors by name, the policy by module).
+    assert flat.dtype == np.float32 and flat.size == params.size
+    assert np.array_equal(np.sort(flat), np.sort(params))
+    # burn's linear layout: weight [d_in, d_out]; the GRU's input map reads the embedding.
+    assert tensors["gru.input.weight"].shape == (16, 48)
+    with safe_open(str(out), "np") as f:
+        meta = f.metadata()
+    config = tomllib.loads(meta["yokai.train_config"])
+    assert config["network"]["hidden"] == 16 and meta["yokai.hidden_size"] == "16"
+    assert tomllib.loads(meta["yokai.game"])["cards"] == 9
+    # Without --out it lands beside the policy file; a path that is no policy is an error.
+    subprocess.run([str(BINARY), "export", str(run_dir)], check=True, capture_output=True)
+    assert (run_dir / "policy.safetensors").exists()
+    bad = subprocess.run([str(BINARY), "export", str(tmp_path / "nothing")], capture_output=True, text=True)
+    assert bad.returncode != 0 and "nothing" in bad.stderr

@@ -3,6 +3,7 @@
 mod bench;
 mod compare;
 mod eval;
+mod export;
 mod paper;
 mod play;
 mod playthrough;
@@ -52,6 +53,9 @@ enum Command {
     Play(play::Args),
     /// Step through a replay file, or render each turn as SVG/PNG pictures.
     Replay(replay::Args),
+    /// Write a trained network's weights as a SafeTensors file (PyTorch, NumPy, JAX), with
+    /// its training config and game as metadata.
+    Export(export::Args),
     /// Put several evaluations side by side in the paper's table (e.g. IPPO vs HE vs OP),
     /// with the paper's numbers as reference rows where the game matches.
     Compare(compare::Args),
@@ -91,6 +95,7 @@ fn main() -> ExitCode {
         Command::Train(args) => train::run(args),
         Command::Play(args) => play::run(args),
         Command::Compare(args) => compare::run(args),
+        Command::Export(args) => export::run(args),
         Command::Replay(args) => replay::run(args),
         Command::Probe(args) => probe::run(args),
         Command::Serve(args) => serve::run(args),

@@ -19,7 +19,9 @@ pub struct TrainConfig {
     pub ppo: PpoConfig,
     /// Off-Belief Learning (off unless `obl.level` ≥ 1).
     pub obl: OblConfig,
-    /// How the trained policy acts outside training (eval, play, serve, Python).
+    /// How the trained policy acts outside training (eval, play, serve, Python). Left out
+    /// of saved configs when it is the default, so files without a rule read everywhere.
+    #[serde(skip_serializing_if = "ActConfig::is_default")]
     pub act: ActConfig,
     pub run: RunConfig,
 }
@@ -38,6 +40,12 @@ pub struct ActConfig {
     /// `cpu`): END is drawn like any action.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub end_threshold: Option<f32>,
+}
+
+impl ActConfig {
+    fn is_default(&self) -> bool {
+        *self == ActConfig::default()
+    }
 }
 
 /// Off-Belief Learning (docs/training.md): the value target of each of a seat's actions
@@ -661,8 +669,9 @@ mod tests {
         assert_eq!(c.act.end_threshold, Some(0.5));
         let again = TrainConfig::from_toml_str(&c.to_toml(), "saved").unwrap();
         assert_eq!(again, c);
-        // Without it the saved config has no [act] field at all.
-        assert!(!TrainConfig::default().to_toml().contains("end_threshold"));
+        // Without it the saved config has no [act] section at all (older readers refuse
+        // unknown sections).
+        assert!(!TrainConfig::default().to_toml().contains("[act]"));
         for bad in ["0.0", "1.0", "1.5", "-0.1", "nan"] {
             let e = refused(&format!("[act]\nend_threshold = {bad}\n"), "a.toml");
             assert!(

@@ -7,6 +7,7 @@
 pub mod backend;
 pub mod config;
 pub mod distribution;
+pub mod export;
 pub mod file;
 pub mod gae;
 pub mod init;

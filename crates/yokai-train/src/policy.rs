@@ -183,6 +183,24 @@ impl TrainedPolicy {
         &self.path
     }
 
+    /// Write the network's weights as a SafeTensors file, with the training config, the
+    /// game, the observation encoding and the memory width as metadata (see
+    /// [`crate::export`]).
+    pub fn write_safetensors(&self, path: &Path) -> Result<(), TrainError> {
+        use crate::export::*;
+        let metadata = [
+            (META_TRAIN_CONFIG, self.header.train_config.clone()),
+            (META_GAME, self.header.game.clone()),
+            (META_ENCODING, format!("{:?}", self.encoding())),
+            (
+                META_OBSERVATION_SHAPE,
+                format!("{:?}", self.encoding().shape(&self.game)),
+            ),
+            (META_HIDDEN, self.hidden_size().to_string()),
+        ];
+        with_net!(&self.net, m => write(m.as_ref(), &metadata, path))
+    }
+
     /// A trained network fits only the game it was trained on.
     pub fn check_game(&self, game: &Config) -> Result<(), TrainError> {
         check_game(&self.path, &self.game, game)
