@@ -50,12 +50,20 @@ impl PyAgent {
 
 #[pymethods]
 impl PyAgent {
+    /// ``end`` (trained policies only) chooses how END is played: ``None`` as the training
+    /// config says (``act.end_threshold``), ``"draw"`` like any other action, or a
+    /// probability in (0, 1): END wherever the network gives it more than that.
     #[new]
-    #[pyo3(signature = (name, seed=0))]
-    fn new(name: &str, seed: u64) -> PyResult<Self> {
+    #[pyo3(signature = (name, seed=0, end=None))]
+    fn new(name: &str, seed: u64, end: Option<&Bound<'_, PyAny>>) -> PyResult<Self> {
+        let end = end.map(end_rule).transpose()?;
         let (label, trained, mut policy) = if Path::new(name).exists() {
-            let (about, policy) = load_trained(name, seed)?;
+            let (about, policy) = load_trained(name, seed, end)?;
             (name.to_string(), Some(about), policy)
+        } else if end.is_some() {
+            return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "`end` sets how a trained policy plays END; `{name}` is not a trained policy"
+            )));
         } else {
             let spec: PolicySpec = name.parse().map_err(config_error)?;
             (spec.to_string(), None, spec.build(seed))
@@ -111,10 +119,41 @@ impl PyAgent {
     }
 }
 
-/// A trained policy file, checkpoint or run directory, seated with `seed`.
+/// The `end` argument: `Some(t)` decides END at threshold `t`, `None` draws it.
+fn end_rule(end: &Bound<'_, PyAny>) -> PyResult<Option<f32>> {
+    if let Ok(text) = end.extract::<String>() {
+        return match text.as_str() {
+            "draw" => Ok(None),
+            _ => Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "end={text:?}: give None, \"draw\" or a probability in (0, 1)"
+            ))),
+        };
+    }
+    match end.extract::<f64>() {
+        Ok(t) if t > 0.0 && t < 1.0 && !end.is_instance_of::<pyo3::types::PyBool>() => {
+            Ok(Some(t as f32))
+        }
+        Ok(t) => Err(pyo3::exceptions::PyValueError::new_err(format!(
+            "end={t}: an END threshold is a probability in (0, 1)"
+        ))),
+        Err(_) => Err(pyo3::exceptions::PyTypeError::new_err(
+            "end must be None, \"draw\" or a float in (0, 1)",
+        )),
+    }
+}
+
+/// A trained policy file, checkpoint or run directory, seated with `seed`; `end`, when
+/// given, replaces the file's END rule.
 #[cfg(feature = "trained")]
-fn load_trained(name: &str, seed: u64) -> PyResult<((PathBuf, Config), Box<dyn Policy>)> {
-    let policy = TrainedPolicy::load(Path::new(name)).map_err(config_error)?;
+fn load_trained(
+    name: &str,
+    seed: u64,
+    end: Option<Option<f32>>,
+) -> PyResult<((PathBuf, Config), Box<dyn Policy>)> {
+    let mut policy = TrainedPolicy::load(Path::new(name)).map_err(config_error)?;
+    if let Some(rule) = end {
+        policy.set_end_threshold(rule).map_err(config_error)?;
+    }
     Ok((
         (policy.path().to_path_buf(), *policy.game()),
         policy.build(seed),
@@ -122,7 +161,11 @@ fn load_trained(name: &str, seed: u64) -> PyResult<((PathBuf, Config), Box<dyn P
 }
 
 #[cfg(not(feature = "trained"))]
-fn load_trained(name: &str, _seed: u64) -> PyResult<((PathBuf, Config), Box<dyn Policy>)> {
+fn load_trained(
+    name: &str,
+    _seed: u64,
+    _end: Option<Option<f32>>,
+) -> PyResult<((PathBuf, Config), Box<dyn Policy>)> {
     Err(config_error(format!(
         "`{name}` is a trained policy, but this build of yokai has no trained-policy support \
          (built with --no-default-features): install it with the default features"

@@ -125,3 +125,24 @@ def test_an_export_holds_the_networks_weights_and_what_rebuilds_its_inputs(run_d
     assert (run_dir / "policy.safetensors").exists()
     bad = subprocess.run([str(BINARY), "export", str(tmp_path / "nothing")], capture_output=True, text=True)
     assert bad.returncode != 0 and "nothing" in bad.stderr
+
+
+def test_the_end_rule_of_a_trained_agent_can_be_chosen(run_dir):
+    """At a threshold of 0.99 the barely trained network never ends a game early; drawing
+    END (its few per cent at every turn) ends some of 40 games. Bad rules are refused."""
+
+    def early_ends(end):
+        ended = 0
+        for seed in range(40):
+            agents = [yokai.Agent(str(run_dir), seed=seed, end=end) for _ in range(2)]
+            env = yokai.play("9c-2p-perfect", agents, seed=seed)
+            ended += env.outcome["early_end"]
+        return ended
+
+    assert early_ends(0.99) == 0
+    assert early_ends("draw") > 0
+    for bad, error in [(1.0, ValueError), ("sometimes", ValueError), (True, ValueError), ([0.5], TypeError)]:
+        with pytest.raises(error, match="end"):
+            yokai.Agent(str(run_dir), end=bad)
+    with pytest.raises(ValueError, match="not a trained policy"):
+        yokai.Agent("greedy", end=0.5)

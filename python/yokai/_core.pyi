@@ -155,11 +155,14 @@ class Env:
     def config(self) -> str: ...
 
 class Agent:
-    """A built-in policy ("random", "greedy", "belief", "belief:continue_win=0.9") for one
-    seat; sees only what its seat may know. Show it every action with ``observe`` before
-    ``env.step``."""
+    """A built-in policy ("random", "greedy", "belief", "belief:continue_win=0.9") or a
+    trained policy (the path of a policy file, checkpoint or run directory) for one seat;
+    sees only what its seat may know. Show it every action with ``observe`` before
+    ``env.step``. ``end`` (trained policies only): ``None`` plays END as the training
+    config says, ``"draw"`` draws it like any action, a probability ``p`` in (0, 1) ends
+    wherever the network gives END more than ``p``."""
 
-    def __init__(self, name: str, seed: int = 0) -> None: ...
+    def __init__(self, name: str, seed: int = 0, end: float | str | None = None) -> None: ...
     def reset(self, seed: int) -> None: ...
     def act(self, env: Env) -> int:
         """The action index it plays as the acting seat of ``env``."""
