@@ -32,4 +32,13 @@ if ! command -v chromedriver > /dev/null && [ "$(id -u)" = 0 ] && command -v apt
         || { apt-get update -q > /dev/null 2>&1 && apt-get install -y -q chromium chromium-driver > /dev/null 2>&1; } \
         || echo "could not install chromium: the browser test will be skipped"
 fi
-.venv/bin/python -m pytest -q python/tests
+# The package without the trainer (no burn) in a venv of its own, for test_lean.py: it
+# must play and say clearly what it lacks.
+if [ ! -x .venv-lean/bin/python ]; then
+    python3 -m venv .venv-lean
+fi
+rm -rf target/lean-wheel
+MATURIN_PEP517_ARGS="--no-default-features" .venv/bin/python -m pip wheel --quiet --no-deps \
+    -w target/lean-wheel ./python
+.venv-lean/bin/python -m pip install --quiet --force-reinstall target/lean-wheel/*.whl
+YOKAI_LEAN_PYTHON="$PWD/.venv-lean/bin/python" .venv/bin/python -m pytest -q python/tests

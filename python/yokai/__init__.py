@@ -28,7 +28,7 @@ try:  # absent from a wheel built with --no-default-features (no trainer, no bur
 except ImportError:  # pragma: no cover - exercised by the no-default-features build only
 
     def _needs_trainer(*_args, **_kwargs):
-        raise RuntimeError(
+        raise YokaiError(
             "this build of yokai has no trainer (built with --no-default-features): "
             "install it with the default features for trained policies and probes"
         )
