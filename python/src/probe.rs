@@ -14,7 +14,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::Path;
-use yokai_engine::Config;
+use yokai_engine::{Card, Config};
 use yokai_train::probe::{evaluate, fit, record, Records, StepAccuracy};
 use yokai_train::TrainedPolicy;
 
@@ -124,7 +124,7 @@ fn to_dict<'py>(py: Python<'py>, game: &Config, r: Records) -> PyResult<Bound<'p
     let out = PyDict::new(py);
     let states = Array2::from_shape_vec((n, r.hidden), r.states).expect("rows × width");
     let colours = Array2::from_shape_vec((n, y), r.colours).expect("rows × cards");
-    let seen = Array2::from_shape_fn((n, y), |(i, k)| r.seen[i] >> k & 1 == 1);
+    let seen = Array2::from_shape_fn((n, y), |(i, k)| r.seen[i].contains(Card(k as u8)));
     out.set_item("states", states.into_pyarray(py))?;
     out.set_item("colours", colours.into_pyarray(py))?;
     out.set_item("seen", seen.into_pyarray(py))?;
@@ -208,7 +208,12 @@ fn from_dict(game: &Config, d: &Bound<'_, PyDict>, what: &str) -> PyResult<Recor
         states,
         colours,
         seen: (0..n)
-            .map(|i| (0..y).fold(0u32, |bits, k| bits | (seen[[i, k]] as u32) << k))
+            .map(|i| {
+                (0..y)
+                    .filter(|&k| seen[[i, k]])
+                    .map(|k| Card(k as u8))
+                    .collect()
+            })
             .collect(),
         steps: steps.iter().map(|&s| s as u16).collect(),
         episodes: episodes.iter().map(|&e| e as u32).collect(),

@@ -22,7 +22,7 @@ fn main() -> Result<(), String> {
         let mut game = Game::new(config, seed);
         let mut truth = Colouring::default();
         for k in 0..config.cards() {
-            truth.masks[game.colour_of(Card(k as u8)).index()] |= 1 << k;
+            truth.masks[game.colour_of(Card(k as u8)).index()].insert(Card(k as u8));
         }
         loop {
             let seat = game.current_seat();

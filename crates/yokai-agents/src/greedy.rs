@@ -52,7 +52,7 @@ impl Policy for GreedyPolicy {
             Substep::FirstObserve | Substep::SecondObserve => {
                 let open = |card: usize| {
                     let c = Card(card as u8);
-                    !view.is_hinted(c) && view.turn_observed() & c.bit() == 0
+                    !view.is_hinted(c) && !view.turn_observed().contains(c)
                 };
                 let unknown =
                     (0..cards).find(|&c| open(c) && view.known_colour(Card(c as u8)).is_none());

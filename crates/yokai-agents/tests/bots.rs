@@ -3,7 +3,7 @@
 use yokai_agents::belief::colouring::{all_colourings, Colouring};
 use yokai_agents::eval::{play_group, seatings, PolicyFactory};
 use yokai_agents::{play_episode, BeliefParams, BeliefPolicy, Policy, PolicySpec};
-use yokai_engine::{cards_in, derive_seed, Action, Card, Config, Deal, Game, Seat, MAX_COLOURS};
+use yokai_engine::{derive_seed, Action, Card, CardSet, Config, Deal, Game, Seat, MAX_COLOURS};
 
 fn specs() -> Vec<PolicySpec> {
     ["random", "greedy", "belief"]
@@ -80,7 +80,7 @@ fn bots_act_the_same_when_only_hidden_colours_differ() {
             let seat = game.current_seat();
             // Swap the colours of two cards of different colours the acting seat never saw.
             let hidden: Vec<usize> = (0..config.cards())
-                .filter(|&c| game.ever_observed(seat) & (1 << c) == 0)
+                .filter(|&c| !game.ever_observed(seat).contains(Card(c as u8)))
                 .collect();
             let pair = hidden
                 .iter()
@@ -168,7 +168,11 @@ fn posterior_equals_brute_force_over_all_deals() {
             let known = view.known_cards();
             let mut expected: Vec<Colouring> = consistent
                 .iter()
-                .filter(|x| cards_in(known).all(|c| Some(x.colour_of(c)) == view.known_colour(c)))
+                .filter(|x| {
+                    known
+                        .iter()
+                        .all(|c| Some(x.colour_of(c)) == view.known_colour(c))
+                })
                 .copied()
                 .collect();
             let mut got = bot.posterior(&view);
@@ -185,9 +189,9 @@ fn posterior_equals_brute_force_over_all_deals() {
 }
 
 fn deal_of_truth(deal: &Deal) -> Colouring {
-    let mut masks = [0u32; MAX_COLOURS];
+    let mut masks = [CardSet::EMPTY; MAX_COLOURS];
     for (card, colour) in deal.card_colours.iter().enumerate() {
-        masks[colour.index()] |= 1 << card;
+        masks[colour.index()].insert(Card(card as u8));
     }
     Colouring { masks }
 }
@@ -380,7 +384,7 @@ fn partner_after(config: Config, deal: &Deal, history: &[Action], seed: u64) -> 
 fn deals_where_partner_learns(
     first_deal: u64,
     steps: usize,
-    named: impl Fn(&[Action]) -> u32,
+    named: impl Fn(&[Action]) -> CardSet,
 ) -> u64 {
     let config = Config::from_name("9c-2p-perfect").unwrap();
     let mut told = 0;
@@ -413,7 +417,7 @@ fn a_second_observation_tells_the_colour_of_the_first() {
     // Among equally uncertain cards, the second card observed in a turn spells the colour of
     // the first (docs/bots.md, convention rule 2); the partner reads it from the public set.
     let told = deals_where_partner_learns(70_000, 2, |history| match history[0] {
-        Action::Observe(first) => first.bit(),
+        Action::Observe(first) => CardSet::from(first),
         other => panic!("a first turn starts with an observation, not {other}"),
     });
     assert!(
@@ -434,10 +438,12 @@ fn a_move_tells_the_partner_the_colours_its_mover_just_saw() {
             "the third action should be a move, not {}",
             history[2]
         );
-        history.iter().fold(0, |seen, action| match action {
-            Action::Observe(card) => seen | card.bit(),
-            _ => seen,
-        })
+        history
+            .iter()
+            .fold(CardSet::EMPTY, |seen, action| match action {
+                Action::Observe(card) => seen | CardSet::from(*card),
+                _ => seen,
+            })
     });
     assert!(
         told * 20 >= DEALS * 19,

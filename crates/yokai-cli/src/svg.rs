@@ -7,7 +7,7 @@
 
 use crate::plots::escape;
 use std::fmt::Write;
-use yokai_engine::{Action, Cell, Colour, Game, HintSlot, Seat};
+use yokai_engine::{Action, CardSet, Cell, Colour, Game, HintSlot, Seat};
 
 const CELL: usize = 36;
 const MARGIN: usize = 24;
@@ -84,7 +84,11 @@ fn panel(s: &mut String, game: &Game, who: Panel, x0: usize) {
     let config = game.config();
     let g = config.grid();
     let (label, known, class) = match who {
-        Panel::Truth => ("ground truth".to_string(), u32::MAX, "truth"),
+        Panel::Truth => (
+            "ground truth".to_string(),
+            CardSet::first(game.config().cards()),
+            "truth",
+        ),
         Panel::Seat(seat) => (format!("{seat}'s view"), game.known_cards(seat), "view"),
     };
     let _ = writeln!(
@@ -103,7 +107,7 @@ fn panel(s: &mut String, game: &Game, who: Panel, x0: usize) {
                 continue;
             };
             let (x, y) = (x0 + c * CELL + 2, TOP + r * CELL + 2);
-            let colour = (known >> card.0 & 1 == 1).then(|| game.colour_of(card));
+            let colour = known.contains(card).then(|| game.colour_of(card));
             let name = colour.map_or("unknown", |c| c.name());
             let hint = game.hint_on(card);
             let stroke = match hint {
@@ -175,7 +179,7 @@ mod tests {
     use yokai_engine::{Config, RecordedGame};
 
     /// Count `class="card CLASS"` elements and check each one's colour against the game.
-    fn cards_in(svg: &str, class: &str, game: &Game, known: u32) -> usize {
+    fn cards_in(svg: &str, class: &str, game: &Game, known: CardSet) -> usize {
         let needle = format!("class=\"card {class}\" data-card=\"");
         let mut n = 0;
         for part in svg.split(&needle).skip(1) {
@@ -186,7 +190,7 @@ mod tests {
                 .and_then(|p| p.split('"').next())
                 .unwrap();
             let card = yokai_engine::Card(id);
-            let want = if known >> id & 1 == 1 {
+            let want = if known.contains(card) {
                 game.colour_of(card).name()
             } else {
                 "unknown"
@@ -208,7 +212,8 @@ mod tests {
             let action = legal[k * 31 % legal.len()];
             let svg = render_turn(game.game(), Seat(0), Some((seat, action)), "test");
             let g = game.game();
-            assert_eq!(cards_in(&svg, "truth", g, u32::MAX), config.cards());
+            let all = CardSet::first(config.cards());
+            assert_eq!(cards_in(&svg, "truth", g, all), config.cards());
             assert_eq!(
                 cards_in(&svg, "view", g, g.known_cards(Seat(0))),
                 config.cards()

@@ -9,7 +9,7 @@
 
 use crate::deal::{Deal, DealError};
 use crate::game::Game;
-use crate::types::Colour;
+use crate::types::{Card, Colour};
 
 impl Game {
     /// This game with its cards coloured by `card_colours` (one colour per card id, each
@@ -34,7 +34,7 @@ impl Game {
         game.colour_cards = Default::default();
         for (k, &colour) in card_colours.iter().enumerate() {
             game.colour_of[k] = colour;
-            game.colour_cards[colour.index()] |= 1 << k;
+            game.colour_cards[colour.index()].insert(Card(k as u8));
         }
         Ok(game)
     }
@@ -44,7 +44,7 @@ impl Game {
 mod tests {
     use super::*;
     use crate::config::Config;
-    use crate::types::Seat;
+    use crate::types::{CardSet, Seat};
 
     fn colours(ids: &[u8]) -> Vec<Colour> {
         ids.iter().map(|&c| Colour(c)).collect()
@@ -62,8 +62,14 @@ mod tests {
         for (k, &colour) in new.iter().enumerate() {
             assert_eq!(fict.colour_of(crate::types::Card(k as u8)), colour);
         }
-        assert_eq!(fict.cards_of_colour(Colour(2)), 0b000_000_111);
-        assert_eq!(fict.cards_of_colour(Colour(0)), 0b111_000_000);
+        assert_eq!(
+            fict.cards_of_colour(Colour(2)),
+            CardSet::from_bits(0b000_000_111)
+        );
+        assert_eq!(
+            fict.cards_of_colour(Colour(0)),
+            CardSet::from_bits(0b111_000_000)
+        );
         assert_eq!(fict.ever_observed(Seat(0)), game.ever_observed(Seat(0)));
         assert_eq!(fict.steps(), game.steps());
         assert_eq!(fict.deal().hint_colours, game.deal().hint_colours);

@@ -9,7 +9,8 @@ use crate::bitboard::{Bitboard, Cell};
 use crate::config::{Config, Memory};
 use crate::deal::{Deal, DealError};
 use crate::types::{
-    Card, Colour, ColourSet, HintSlot, Seat, MAX_CARDS, MAX_COLOURS, MAX_HINTS, MAX_PLAYERS,
+    Card, CardSet, Colour, ColourSet, HintSlot, Seat, MAX_CARDS, MAX_COLOURS, MAX_HINTS,
+    MAX_PLAYERS,
 };
 use std::fmt;
 
@@ -156,7 +157,7 @@ pub struct Game {
     pub(crate) occupied: Bitboard,
     pub(crate) colour_of: [Colour; MAX_CARDS],
     /// Card mask of each colour.
-    pub(crate) colour_cards: [u32; MAX_COLOURS],
+    pub(crate) colour_cards: [CardSet; MAX_COLOURS],
     pub(crate) hint_colours: [ColourSet; MAX_HINTS],
     /// Slots `0..revealed` are face up.
     pub(crate) revealed: u8,
@@ -165,11 +166,11 @@ pub struct Game {
     pub(crate) placed: u8,
     /// The slot placed on each card (meaningful only for cards in `hinted`).
     pub(crate) card_hint: [u8; MAX_CARDS],
-    pub(crate) hinted: u32,
+    pub(crate) hinted: CardSet,
     /// Cards each seat has observed at least once this episode.
-    pub(crate) ever_observed: [u32; MAX_PLAYERS],
+    pub(crate) ever_observed: [CardSet; MAX_PLAYERS],
     /// Cards the acting seat has observed in this turn.
-    pub(crate) turn_observed: u32,
+    pub(crate) turn_observed: CardSet,
     pub(crate) current: u8,
     pub(crate) substep: u8,
     pub(crate) steps: u16,
@@ -240,14 +241,14 @@ impl Game {
         let mut cell_of = [0u8; MAX_CARDS];
         let mut occupied = Bitboard::EMPTY;
         let mut colour_of = [Colour(0); MAX_CARDS];
-        let mut colour_cards = [0u32; MAX_COLOURS];
+        let mut colour_cards = [CardSet::EMPTY; MAX_COLOURS];
         for k in 0..config.cards() {
             let cell = Cell::new(row0 + k / side, col0 + k % side);
             let index = geo.index(cell);
             cell_of[k] = index as u8;
             occupied |= Bitboard::from_index(index);
             colour_of[k] = card_colours[k];
-            colour_cards[card_colours[k].index()] |= 1 << k;
+            colour_cards[card_colours[k].index()].insert(Card(k as u8));
         }
         let mut hints = [ColourSet(0); MAX_HINTS];
         hints[..config.hints()].copy_from_slice(hint_colours);
@@ -262,9 +263,9 @@ impl Game {
             hint_card: [NO_CARD; MAX_HINTS],
             placed: 0,
             card_hint: [0; MAX_CARDS],
-            hinted: 0,
-            ever_observed: [0; MAX_PLAYERS],
-            turn_observed: 0,
+            hinted: CardSet::EMPTY,
+            ever_observed: [CardSet::EMPTY; MAX_PLAYERS],
+            turn_observed: CardSet::EMPTY,
             current: 0,
             substep: 0,
             steps: 0,
@@ -324,13 +325,13 @@ impl Game {
     pub fn occupied(&self) -> Bitboard {
         self.occupied
     }
-    /// Mask of cards carrying a hint.
+    /// The cards carrying a hint.
     #[inline(always)]
-    pub fn hinted_cards(&self) -> u32 {
+    pub fn hinted_cards(&self) -> CardSet {
         self.hinted
     }
     pub fn is_hinted(&self, card: Card) -> bool {
-        self.hinted & card.bit() != 0
+        self.hinted.contains(card)
     }
     /// The hint slot placed on a card.
     pub fn hint_on(&self, card: Card) -> Option<HintSlot> {
@@ -355,7 +356,7 @@ impl Game {
         (c != NO_CARD).then_some(Card(c))
     }
     /// Cards the acting seat observed in this turn (public: everyone sees which).
-    pub fn turn_observed(&self) -> u32 {
+    pub fn turn_observed(&self) -> CardSet {
         self.turn_observed
     }
     /// The last action taken, and by whom.
@@ -365,16 +366,16 @@ impl Game {
 
     /// Cards whose colour `seat` sees now, by the memory mode (RULES §5).
     #[inline(always)]
-    pub fn known_cards(&self, seat: Seat) -> u32 {
+    pub fn known_cards(&self, seat: Seat) -> CardSet {
         match self.config.memory() {
             Memory::Perfect => self.ever_observed[seat.index()],
             Memory::Imperfect if seat.0 == self.current => self.turn_observed,
-            Memory::Imperfect => 0,
+            Memory::Imperfect => CardSet::EMPTY,
         }
     }
 
     /// Cards `seat` has observed at least once this episode, whatever the memory mode.
-    pub fn ever_observed(&self, seat: Seat) -> u32 {
+    pub fn ever_observed(&self, seat: Seat) -> CardSet {
         self.ever_observed[seat.index()]
     }
 
@@ -386,8 +387,8 @@ impl Game {
     pub fn colour_of(&self, card: Card) -> Colour {
         self.colour_of[card.index()]
     }
-    /// Card mask of a colour (hidden information).
-    pub fn cards_of_colour(&self, colour: Colour) -> u32 {
+    /// The cards of a colour (hidden information).
+    pub fn cards_of_colour(&self, colour: Colour) -> CardSet {
         self.colour_cards[colour.index()]
     }
     /// Colours of any hint slot, face down or not (hidden information).
@@ -414,7 +415,7 @@ impl Game {
         let card_ok = |card: Card| -> Result<(), Illegal> {
             if card.index() >= cards {
                 Err(Illegal::NoSuchCard { cards: cards as u8 })
-            } else if self.hinted & card.bit() != 0 {
+            } else if self.hinted.contains(card) {
                 Err(Illegal::CardHinted)
             } else {
                 Ok(())
@@ -426,7 +427,7 @@ impl Game {
             (Substep::FirstObserve, Action::Observe(card)) => card_ok(card),
             (Substep::SecondObserve, Action::Observe(card)) => {
                 card_ok(card)?;
-                if self.turn_observed & card.bit() != 0 {
+                if self.turn_observed.contains(card) {
                     Err(Illegal::ObservedTwice)
                 } else {
                     Ok(())
@@ -568,11 +569,11 @@ impl Game {
         match action {
             Action::End => self.phase = Phase::EndedEarly,
             Action::Observe(card) => {
-                if self.ever_observed[seat] & card.bit() == 0 {
+                if !self.ever_observed[seat].contains(card) {
                     shaping += 1;
                 }
-                self.ever_observed[seat] |= card.bit();
-                self.turn_observed |= card.bit();
+                self.ever_observed[seat].insert(card);
+                self.turn_observed.insert(card);
                 self.substep += 1;
             }
             Action::Move(card, cell) => {
@@ -590,7 +591,7 @@ impl Game {
             Action::Place(slot, card) => {
                 self.hint_card[slot.index()] = card.0;
                 self.card_hint[card.index()] = slot.0;
-                self.hinted |= card.bit();
+                self.hinted.insert(card);
                 self.placed += 1;
                 if self.hint_colours[slot.index()].contains(self.colour_of[card.index()]) {
                     shaping += 1;
@@ -599,7 +600,7 @@ impl Game {
                     // The last PLACE ends the placer's turn as well as the game (RULES §2):
                     // with imperfect memory its final view no longer shows this turn's
                     // colours (RULES §5). The seat to act stays the placer's.
-                    self.turn_observed = 0;
+                    self.turn_observed = CardSet::EMPTY;
                     self.phase = Phase::Finished;
                 } else {
                     self.end_turn();
@@ -615,7 +616,7 @@ impl Game {
     }
 
     fn end_turn(&mut self) {
-        self.turn_observed = 0;
+        self.turn_observed = CardSet::EMPTY;
         self.substep = 0;
         self.current = (self.current + 1) % self.config.players() as u8;
     }
@@ -628,15 +629,10 @@ impl Game {
         out
     }
 
-    /// Mask of cards without a hint.
+    /// The cards without a hint.
     #[inline(always)]
-    pub fn unhinted(&self) -> u32 {
-        let all = if self.config.cards() == 32 {
-            u32::MAX
-        } else {
-            (1u32 << self.config.cards()) - 1
-        };
-        all & !self.hinted
+    pub fn unhinted(&self) -> CardSet {
+        CardSet::first(self.config.cards()) & !self.hinted
     }
 
     /// Mask of revealed, unplaced hint slots.

@@ -15,7 +15,7 @@ use crate::action::Action;
 use crate::bitboard::{Bitboard, BLOCK_KEEPS_CONNECTED};
 use crate::game::{Game, Substep};
 use crate::observation::Scalar;
-use crate::types::{cards_in, Card, Seat};
+use crate::types::{Card, Seat};
 
 impl Game {
     /// Empty cells `card` may move to so that all cards stay one group. Pure geometry: the
@@ -27,7 +27,9 @@ impl Game {
 
     /// Whether any unhinted card has a legal move (if not, NOOP is the MOVE substep's action).
     pub fn any_move(&self) -> bool {
-        cards_in(self.unhinted()).any(|c| !self.move_targets(c).is_empty())
+        self.unhinted()
+            .iter()
+            .any(|c| !self.move_targets(c).is_empty())
     }
 
     /// Write the legal-action mask of `seat` (length N_a): `ONE` for legal, `ZERO` otherwise.
@@ -109,15 +111,15 @@ impl Game {
         match self.substep() {
             Substep::FirstObserve => {
                 f(1);
-                cards_in(free).for_each(|c| f(layout.observe + c.index()));
+                free.iter().for_each(|c| f(layout.observe + c.index()));
             }
-            Substep::SecondObserve => {
-                cards_in(free & !self.turn_observed).for_each(|c| f(layout.observe + c.index()))
-            }
+            Substep::SecondObserve => (free & !self.turn_observed)
+                .iter()
+                .for_each(|c| f(layout.observe + c.index())),
             Substep::Move => {
                 let cells = self.config.geometry().cells();
                 let mut any = false;
-                for c in cards_in(free) {
+                for c in free.iter() {
                     let base = layout.movement + c.index() * cells;
                     for to in self.move_targets(c).iter() {
                         f(base + to);
@@ -138,7 +140,7 @@ impl Game {
                     let slot = slots.trailing_zeros() as usize;
                     slots &= slots - 1;
                     let base = layout.place + slot * y;
-                    cards_in(free).for_each(|c| f(base + c.index()));
+                    free.iter().for_each(|c| f(base + c.index()));
                 }
             }
         }

@@ -107,7 +107,7 @@ pub use replay::{Replay, ReplayFileError, ReplayHeader, ReplayStep, REPLAY_FORMA
 pub use scoring::Outcome;
 pub use symmetry::{Symmetry, SymmetryError};
 pub use types::{
-    cards_in, Card, Colour, ColourSet, HintSlot, Seat, MAX_CARDS, MAX_COLOURS, MAX_HINTS,
+    Card, CardSet, Colour, ColourSet, HintSlot, Seat, MAX_CARDS, MAX_COLOURS, MAX_HINTS,
     MAX_PLAYERS,
 };
 pub use view::{PublicView, SeatView};

@@ -44,7 +44,7 @@
 use crate::action::Action;
 use crate::config::Config;
 use crate::game::Game;
-use crate::types::{cards_in, Card, HintSlot, Seat};
+use crate::types::{Card, CardSet, HintSlot, Seat};
 
 /// An element type an observation or mask can be written in.
 pub trait Scalar: Copy + PartialEq + std::fmt::Debug + Send + Sync + 'static {
@@ -337,7 +337,7 @@ pub struct ImageChanges {
     /// The action ends the turn: "my turn" changes, and these cards (observed in the turn
     /// that ends) lose their "observed this turn" mark and, with imperfect memory, the
     /// colour the actor saw.
-    turn_end: Option<u32>,
+    turn_end: Option<CardSet>,
 }
 
 /// Writes image observations fast. The background (everything that does not depend on
@@ -428,7 +428,7 @@ impl<T: Scalar> ImageEncoder<T> {
         if let Some(card) = changes.observed {
             let px = card_pixel(card);
             out[px + ch.observed * s.channel] = T::ONE;
-            if known & card.bit() != 0 {
+            if known.contains(card) {
                 out[px + colour_channel(card) * s.channel] = T::ONE;
             }
         }
@@ -452,10 +452,10 @@ impl<T: Scalar> ImageEncoder<T> {
         }
         if let Some(cards) = changes.turn_end {
             broadcast(out, ch.my_turn, T::flag(game.is_turn_of(seat)));
-            for card in cards_in(cards) {
+            for card in cards.iter() {
                 let px = card_pixel(card);
                 out[px + ch.observed * s.channel] = T::ZERO;
-                out[px + colour_channel(card) * s.channel] = T::flag(known & card.bit() != 0);
+                out[px + colour_channel(card) * s.channel] = T::flag(known.contains(card));
             }
         }
         Ok(())
@@ -540,7 +540,7 @@ impl Game {
     fn write_image_private<T: Scalar>(&self, seat: Seat, layout: ImageLayout, out: &mut [T]) {
         let s = Strides::new(&self.config, self.config.colours(), layout);
         out.fill(T::ZERO);
-        for card in cards_in(self.known_cards(seat)) {
+        for card in self.known_cards(seat).iter() {
             let colour = self.colour_of[card.index()].index();
             out[self.card_pixel(card, &s) + colour * s.channel] = T::ONE;
         }
@@ -554,11 +554,11 @@ impl Game {
 
     /// The cards whose colour `part` of `seat`'s observation shows.
     #[inline]
-    fn known_in(&self, seat: Seat, part: Part) -> u32 {
+    fn known_in(&self, seat: Seat, part: Part) -> CardSet {
         if part == Part::Full {
             self.known_cards(seat)
         } else {
-            0
+            CardSet::EMPTY
         }
     }
 
@@ -573,26 +573,26 @@ impl Game {
     fn write_card_pixel<T: Scalar>(
         &self,
         k: usize,
-        known: u32,
+        known: CardSet,
         ch: &ImageChannels,
         s: &Strides,
         out: &mut [T],
     ) {
-        let bit = 1u32 << k;
-        let px = self.card_pixel(Card(k as u8), s);
+        let card = Card(k as u8);
+        let px = self.card_pixel(card, s);
         let mut set = |channel: usize, value: T| out[px + channel * s.channel] = value;
         set(ch.present, T::ONE);
         set(ch.id, T::ratio(k as u32 + 1, self.config.cards() as u32));
-        if known & bit != 0 {
+        if known.contains(card) {
             set(ch.known + self.colour_of[k].index(), T::ONE);
         }
-        if self.hinted & bit != 0 {
+        if self.hinted.contains(card) {
             set(ch.hinted, T::ONE);
             for colour in self.hint_colours[self.card_hint[k] as usize].colours() {
                 set(ch.hint + colour.index(), T::ONE);
             }
         }
-        if self.turn_observed & bit != 0 {
+        if self.turn_observed.contains(card) {
             set(ch.observed, T::ONE);
         }
     }
@@ -616,7 +616,7 @@ impl Game {
         } else {
             set(ch.present);
         }
-        if self.hint_card[slot] != u8::MAX {
+        if self.hint_card(HintSlot(slot as u8)).is_some() {
             set(ch.hinted);
         }
     }
@@ -627,7 +627,8 @@ impl Game {
         check_len("adjacency", out.len(), &config.adjacency_shape())?;
         let y = config.cards();
         let geo = config.geometry();
-        let mut card_at = [u8::MAX; 128];
+        // Read only at occupied cells, each of which holds a card.
+        let mut card_at = [0u8; 128];
         for k in 0..y {
             card_at[self.cell_of[k] as usize] = k as u8;
         }
@@ -654,7 +655,7 @@ impl Game {
         out.fill(T::ZERO);
         if part == Part::Private {
             let c = config.colours();
-            for card in cards_in(known) {
+            for card in known.iter() {
                 out[card.index() * c + self.colour_of[card.index()].index()] = T::ONE;
             }
             return Ok(());
@@ -673,20 +674,20 @@ impl Game {
             px[ch.id] = T::ratio(card as u32 + 1, y as u32);
         };
         for k in 0..y {
-            let bit = 1u32 << k;
+            let card = Card(k as u8);
             let px = &mut out[k * f..][..f];
             place(px, k);
             px[ch.present] = T::ONE;
-            if part == Part::Full && known & bit != 0 {
+            if part == Part::Full && known.contains(card) {
                 px[ch.known + self.colour_of[k].index()] = T::ONE;
             }
-            if self.hinted & bit != 0 {
+            if self.hinted.contains(card) {
                 px[ch.hinted] = T::ONE;
                 for colour in self.hint_colours[self.card_hint[k] as usize].colours() {
                     px[ch.hint + colour.index()] = T::ONE;
                 }
             }
-            if self.turn_observed & bit != 0 {
+            if self.turn_observed.contains(card) {
                 px[ch.observed] = T::ONE;
             }
             px[ch.my_turn] = my_turn;
@@ -701,10 +702,9 @@ impl Game {
             } else {
                 px[ch.present] = T::ONE;
             }
-            let card = self.hint_card[slot];
-            if card != u8::MAX {
+            if let Some(card) = self.hint_card(HintSlot(slot as u8)) {
                 px[ch.hinted] = T::ONE;
-                place(px, card as usize);
+                place(px, card.index());
             }
             px[ch.my_turn] = my_turn;
             px[ch.substep] = substep;

@@ -5,7 +5,7 @@
 //! Below the grid, one line per hint slot.
 
 use crate::game::{Game, Phase};
-use crate::types::{HintSlot, Seat};
+use crate::types::{CardSet, HintSlot, Seat};
 use std::fmt::Write;
 
 /// Whose knowledge of colours a rendering shows.
@@ -44,7 +44,7 @@ fn render(game: &Game, viewer: Viewer) -> String {
     };
     let _ = writeln!(s, "{config} · {who} · {status} · step {}", game.steps());
     let known = match viewer {
-        Viewer::Truth => u32::MAX,
+        Viewer::Truth => CardSet::first(game.config().cards()),
         Viewer::Seat(seat) => game.known_cards(seat),
     };
     let _ = write!(s, "   ");
@@ -58,7 +58,7 @@ fn render(game: &Game, viewer: Viewer) -> String {
             let text = match game.card_at(crate::Cell::new(r, c)) {
                 None => ".".to_string(),
                 Some(card) => {
-                    let letter = if known >> card.0 & 1 == 1 {
+                    let letter = if known.contains(card) {
                         game.colour_of(card).letter()
                     } else {
                         '?'

@@ -2,7 +2,7 @@
 
 use crate::bitboard::Bitboard;
 use crate::game::{Game, Phase};
-use crate::types::{cards_in, Colour, HintSlot};
+use crate::types::{Colour, HintSlot};
 use serde::{Deserialize, Serialize};
 
 /// The final facts of a finished game: what metrics are computed from.
@@ -28,7 +28,7 @@ impl Game {
     /// Cells of the cards of one colour.
     fn cells_of_colour(&self, colour: Colour) -> Bitboard {
         let mut set = Bitboard::EMPTY;
-        for card in cards_in(self.colour_cards[colour.index()]) {
+        for card in self.colour_cards[colour.index()].iter() {
             set |= Bitboard::from_index(self.cell_of[card.index()] as usize);
         }
         set

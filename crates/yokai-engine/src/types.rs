@@ -4,7 +4,7 @@
 use serde::{Deserialize, Serialize};
 use std::fmt;
 
-/// Most cards a configuration may have (card sets are `u32` masks).
+/// Most cards a configuration may have (a [`CardSet`] is a `u32` mask).
 pub const MAX_CARDS: usize = 32;
 /// Most colours (hint colour sets are `u8` masks; RULES §1 allows 2–4).
 pub const MAX_COLOURS: usize = 4;
@@ -37,10 +37,6 @@ impl Card {
     #[inline(always)]
     pub fn index(self) -> usize {
         self.0 as usize
-    }
-    #[inline(always)]
-    pub fn bit(self) -> u32 {
-        1u32 << self.0
     }
 }
 
@@ -110,17 +106,157 @@ impl fmt::Display for Seat {
     }
 }
 
-/// Iterate the set bits of a card mask as cards.
-#[inline]
-pub fn cards_in(mask: u32) -> impl Iterator<Item = Card> {
-    let mut m = mask;
-    std::iter::from_fn(move || {
-        if m == 0 {
-            None
-        } else {
-            let i = m.trailing_zeros();
-            m &= m - 1;
-            Some(Card(i as u8))
+/// A set of cards (by id), one bit per card: hinted cards, the cards a seat has seen, the
+/// cards of a colour. Iterating yields [`Card`]s, so card ids never travel as bare
+/// integers; [`CardSet::bits`] is there for the few places that store or hash the mask.
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Default, PartialOrd, Ord, Serialize, Deserialize)]
+pub struct CardSet(u32);
+
+impl CardSet {
+    pub const EMPTY: CardSet = CardSet(0);
+
+    /// Cards `0..n` (every card of an `n`-card game).
+    #[inline(always)]
+    pub fn first(n: usize) -> CardSet {
+        debug_assert!(n <= MAX_CARDS);
+        CardSet(if n >= 32 { u32::MAX } else { (1u32 << n) - 1 })
+    }
+    /// The set with these bits (bit k = card k).
+    #[inline(always)]
+    pub const fn from_bits(bits: u32) -> CardSet {
+        CardSet(bits)
+    }
+    #[inline(always)]
+    pub const fn bits(self) -> u32 {
+        self.0
+    }
+    #[inline(always)]
+    pub fn contains(self, card: Card) -> bool {
+        self.0 >> card.0 & 1 == 1
+    }
+    #[inline(always)]
+    pub fn insert(&mut self, card: Card) {
+        self.0 |= 1 << card.0;
+    }
+    #[inline(always)]
+    pub fn remove(&mut self, card: Card) {
+        self.0 &= !(1 << card.0);
+    }
+    #[inline(always)]
+    pub fn len(self) -> usize {
+        self.0.count_ones() as usize
+    }
+    #[inline(always)]
+    pub fn is_empty(self) -> bool {
+        self.0 == 0
+    }
+    /// The cards in increasing id order.
+    #[inline]
+    pub fn iter(self) -> impl Iterator<Item = Card> {
+        let mut m = self.0;
+        std::iter::from_fn(move || {
+            if m == 0 {
+                None
+            } else {
+                let i = m.trailing_zeros();
+                m &= m - 1;
+                Some(Card(i as u8))
+            }
+        })
+    }
+}
+
+impl From<Card> for CardSet {
+    #[inline(always)]
+    fn from(card: Card) -> CardSet {
+        CardSet(1 << card.0)
+    }
+}
+
+impl FromIterator<Card> for CardSet {
+    fn from_iter<I: IntoIterator<Item = Card>>(cards: I) -> CardSet {
+        let mut set = CardSet::EMPTY;
+        cards.into_iter().for_each(|c| set.insert(c));
+        set
+    }
+}
+
+impl std::ops::BitOr for CardSet {
+    type Output = CardSet;
+    #[inline(always)]
+    fn bitor(self, rhs: CardSet) -> CardSet {
+        CardSet(self.0 | rhs.0)
+    }
+}
+impl std::ops::BitAnd for CardSet {
+    type Output = CardSet;
+    #[inline(always)]
+    fn bitand(self, rhs: CardSet) -> CardSet {
+        CardSet(self.0 & rhs.0)
+    }
+}
+/// The complement within all 32 possible ids: intersect with [`CardSet::first`] where the
+/// game's card count matters.
+impl std::ops::Not for CardSet {
+    type Output = CardSet;
+    #[inline(always)]
+    fn not(self) -> CardSet {
+        CardSet(!self.0)
+    }
+}
+impl std::ops::BitOrAssign for CardSet {
+    #[inline(always)]
+    fn bitor_assign(&mut self, rhs: CardSet) {
+        self.0 |= rhs.0;
+    }
+}
+impl std::ops::BitAndAssign for CardSet {
+    #[inline(always)]
+    fn bitand_assign(&mut self, rhs: CardSet) {
+        self.0 &= rhs.0;
+    }
+}
+
+impl fmt::Debug for CardSet {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "CardSet")?;
+        f.debug_list().entries(self.iter().map(|c| c.0)).finish()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// A card set built from any list of ids holds exactly those ids, yields them once
+        /// each in increasing order, and its operators agree with the same sets as
+        /// `BTreeSet`s.
+        #[test]
+        fn card_sets_behave_as_sets_of_ids(a in prop::collection::vec(0u8..32, 0..40), b in prop::collection::vec(0u8..32, 0..40), n in 0usize..=32) {
+            use std::collections::BTreeSet;
+            let (sa, sb): (BTreeSet<u8>, BTreeSet<u8>) = (a.iter().copied().collect(), b.iter().copied().collect());
+            let (ca, cb): (CardSet, CardSet) = (a.iter().map(|&k| Card(k)).collect(), b.iter().map(|&k| Card(k)).collect());
+            let ids = |c: CardSet| c.iter().map(|card| card.0).collect::<Vec<u8>>();
+            prop_assert_eq!(ids(ca), sa.iter().copied().collect::<Vec<_>>());
+            prop_assert_eq!(ca.len(), sa.len());
+            prop_assert_eq!(ca.is_empty(), sa.is_empty());
+            prop_assert_eq!(ids(ca | cb), sa.union(&sb).copied().collect::<Vec<_>>());
+            prop_assert_eq!(ids(ca & cb), sa.intersection(&sb).copied().collect::<Vec<_>>());
+            let all = CardSet::first(n);
+            prop_assert_eq!(ids(all), (0..n as u8).collect::<Vec<_>>());
+            let rest: Vec<u8> = (0..n as u8).filter(|k| !sa.contains(k)).collect();
+            prop_assert_eq!(ids(all & !ca), rest);
+            for k in 0..32u8 {
+                prop_assert_eq!(ca.contains(Card(k)), sa.contains(&k));
+            }
+            let mut removed = ca;
+            if let Some(&k) = sa.iter().next() {
+                removed.remove(Card(k));
+                prop_assert!(!removed.contains(Card(k)) && removed.len() + 1 == ca.len());
+            }
+            prop_assert_eq!(CardSet::from_bits(ca.bits()), ca);
         }
-    })
+    }
 }

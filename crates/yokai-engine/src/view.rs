@@ -12,7 +12,7 @@ use crate::bitboard::{Bitboard, Cell};
 use crate::config::Config;
 use crate::game::{Game, Phase, Substep};
 use crate::observation::{BufferError, ImageLayout, Part, Scalar};
-use crate::types::{Card, Colour, ColourSet, HintSlot, Seat};
+use crate::types::{Card, CardSet, Colour, ColourSet, HintSlot, Seat};
 
 /// The public facts of a game (RULES §5): positions, hints, turns, which cards were
 /// observed by whom. No colour of any card.
@@ -93,7 +93,7 @@ impl<'a> PublicView<'a> {
         self.game.is_hinted(card)
     }
     /// Mask of the cards that carry a hint.
-    pub fn hinted_cards(&self) -> u32 {
+    pub fn hinted_cards(&self) -> CardSet {
         self.game.hinted_cards()
     }
     pub fn hint_card(&self, slot: HintSlot) -> Option<Card> {
@@ -110,7 +110,7 @@ impl<'a> PublicView<'a> {
         self.game.revealed_unplaced()
     }
     /// Cards the acting seat observed this turn (public: everyone sees which).
-    pub fn turn_observed(&self) -> u32 {
+    pub fn turn_observed(&self) -> CardSet {
         self.game.turn_observed()
     }
     pub fn last_action(&self) -> Option<(Seat, Action)> {
@@ -118,11 +118,11 @@ impl<'a> PublicView<'a> {
     }
     /// Which cards `seat` sees the colour of now (public: observations are seen by all,
     /// and the memory mode is part of the config). Not their colours.
-    pub fn known_cards_of(&self, seat: Seat) -> u32 {
+    pub fn known_cards_of(&self, seat: Seat) -> CardSet {
         self.game.known_cards(seat)
     }
     /// Cards `seat` has observed at least once this episode.
-    pub fn ever_observed(&self, seat: Seat) -> u32 {
+    pub fn ever_observed(&self, seat: Seat) -> CardSet {
         self.game.ever_observed(seat)
     }
     /// Legal actions of `seat`, in index order (legality depends on public facts only).
@@ -155,13 +155,15 @@ impl<'a> SeatView<'a> {
     fn game(&self) -> &'a Game {
         self.public.game
     }
-    /// Mask of the cards whose colour this seat sees now.
-    pub fn known_cards(&self) -> u32 {
+    /// The cards whose colour this seat sees now.
+    pub fn known_cards(&self) -> CardSet {
         self.game().known_cards(self.seat)
     }
     /// The colour of a card, if this seat sees it now.
     pub fn known_colour(&self, card: Card) -> Option<Colour> {
-        (self.known_cards() & card.bit() != 0).then(|| self.game().colour_of(card))
+        self.known_cards()
+            .contains(card)
+            .then(|| self.game().colour_of(card))
     }
     pub fn legal_actions(&self) -> Vec<Action> {
         self.game().legal_actions(self.seat)

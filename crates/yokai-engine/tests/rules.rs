@@ -567,14 +567,14 @@ fn perfect_memory_keeps_colours_and_imperfect_forgets_them_when_the_turn_ends() 
         }
         assert_eq!(
             game.known_cards(Seat(0)),
-            0b1_0000_0001,
+            CardSet::from_iter([Card(0), Card(8)]),
             "{memory}: during the turn"
         );
         game.apply(Action::Reveal).unwrap();
         let after = game.known_cards(Seat(0));
         match memory {
-            Memory::Perfect => assert_eq!(after, 0b1_0000_0001),
-            Memory::Imperfect => assert_eq!(after, 0),
+            Memory::Perfect => assert_eq!(after, CardSet::from_iter([Card(0), Card(8)])),
+            Memory::Imperfect => assert_eq!(after, CardSet::EMPTY),
         }
         // Seat 1 plays a turn; seat 0's memory of card 0 outlives it only with perfect memory.
         game.apply(obs(4)).unwrap();
@@ -618,12 +618,13 @@ fn the_last_place_ends_the_placers_turn_so_imperfect_memory_forgets() {
         let view = game.view(placer);
         match memory {
             Memory::Imperfect => {
-                assert_eq!(game.known_cards(placer), 0);
+                assert_eq!(game.known_cards(placer), CardSet::EMPTY);
                 assert_eq!(view.known_colour(Card(0)), None);
                 assert_eq!(view.known_colour(Card(1)), None);
             }
             Memory::Perfect => {
-                assert_eq!(game.known_cards(placer) & 0b11, 0b11);
+                let first_two = CardSet::first(2);
+                assert_eq!(game.known_cards(placer) & first_two, first_two);
                 assert!(view.known_colour(Card(1)).is_some());
             }
         }

@@ -14,7 +14,7 @@ fn new_observation_share(config: Config, seats: &mut [Box<dyn Policy>]) -> f64 {
             let seat = game.game().current_seat();
             if let Action::Observe(card) = action {
                 all += 1;
-                new += (game.game().ever_observed(seat) & card.bit() == 0) as u64;
+                new += !game.game().ever_observed(seat).contains(card) as u64;
             }
             game.apply(action).unwrap();
         }

@@ -2,25 +2,28 @@
 
 use rand_chacha::rand_core::Rng;
 use rand_chacha::ChaCha8Rng;
-use yokai_engine::{cards_in, Bitboard, Card, Colour, ColourSet, Config, PublicView, MAX_COLOURS};
+use yokai_engine::{Bitboard, Card, CardSet, Colour, ColourSet, Config, PublicView, MAX_COLOURS};
 
-/// One assignment of colours to card ids, as one card mask per colour.
+/// One assignment of colours to card ids, as one card set per colour.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
 pub struct Colouring {
-    pub masks: [u32; MAX_COLOURS],
+    pub masks: [CardSet; MAX_COLOURS],
 }
 
 impl Colouring {
     pub fn colour_of(&self, card: Card) -> Colour {
-        let bit = card.bit();
-        let c = self.masks.iter().position(|m| m & bit != 0).unwrap_or(0);
+        let c = self
+            .masks
+            .iter()
+            .position(|m| m.contains(card))
+            .unwrap_or(0);
         Colour(c as u8)
     }
 
-    /// The part of this colouring on the cards of `mask` (what a seat knowing exactly
+    /// The part of this colouring on the cards of `known` (what a seat knowing exactly
     /// those cards would see): equal keys mean indistinguishable to that seat.
-    pub fn restricted(&self, mask: u32) -> [u32; MAX_COLOURS] {
-        self.masks.map(|m| m & mask)
+    pub fn restricted(&self, known: CardSet) -> [CardSet; MAX_COLOURS] {
+        self.masks.map(|m| m & known)
     }
 
     /// How many colours are clustered on the board of `view`.
@@ -30,7 +33,7 @@ impl Colouring {
             .iter()
             .filter(|&&mask| {
                 let mut cells = Bitboard::EMPTY;
-                for card in cards_in(mask) {
+                for card in mask.iter() {
                     cells |= Bitboard::from_index(geometry.index(view.cell_of(card)));
                 }
                 geometry.is_connected(cells)
@@ -93,13 +96,13 @@ pub fn count_colourings(config: &Config) -> u128 {
 pub fn all_colourings(config: &Config) -> Vec<Colouring> {
     let (y, c, k) = (config.cards(), config.colours(), config.cards_per_colour());
     let mut out = Vec::new();
-    let mut masks = [0u32; MAX_COLOURS];
+    let mut masks = [CardSet::EMPTY; MAX_COLOURS];
     fn fill(
         card: usize,
         y: usize,
         c: usize,
         k: usize,
-        masks: &mut [u32; MAX_COLOURS],
+        masks: &mut [CardSet; MAX_COLOURS],
         out: &mut Vec<Colouring>,
     ) {
         if card == y {
@@ -107,10 +110,10 @@ pub fn all_colourings(config: &Config) -> Vec<Colouring> {
             return;
         }
         for colour in 0..c {
-            if (masks[colour].count_ones() as usize) < k {
-                masks[colour] |= 1 << card;
+            if masks[colour].len() < k {
+                masks[colour].insert(Card(card as u8));
                 fill(card + 1, y, c, k, masks, out);
-                masks[colour] &= !(1 << card);
+                masks[colour].remove(Card(card as u8));
             }
         }
     }
@@ -125,16 +128,16 @@ pub fn sample_colouring(
     rng: &mut ChaCha8Rng,
 ) -> Colouring {
     let (y, c, k) = (config.cards(), config.colours(), config.cards_per_colour());
-    let mut masks = [0u32; MAX_COLOURS];
-    let mut known_mask = 0u32;
+    let mut masks = [CardSet::EMPTY; MAX_COLOURS];
+    let mut known_cards = CardSet::EMPTY;
     for &(card, colour) in known {
-        masks[colour.index()] |= card.bit();
-        known_mask |= card.bit();
+        masks[colour.index()].insert(card);
+        known_cards.insert(card);
     }
     // The colours still to hand out, shuffled onto the unknown cards (Fisher–Yates).
     let mut pool: Vec<u8> = Vec::with_capacity(y);
     for (colour, mask) in masks.iter().enumerate().take(c) {
-        for _ in mask.count_ones() as usize..k {
+        for _ in mask.len()..k {
             pool.push(colour as u8);
         }
     }
@@ -143,10 +146,10 @@ pub fn sample_colouring(
         pool.swap(i, j);
     }
     let mut next = pool.into_iter();
-    for card in 0..y {
-        if known_mask & (1 << card) == 0 {
+    for card in (0..y).map(|k| Card(k as u8)) {
+        if !known_cards.contains(card) {
             if let Some(colour) = next.next() {
-                masks[colour as usize] |= 1 << card;
+                masks[colour as usize].insert(card);
             }
         }
     }
@@ -167,13 +170,10 @@ mod tests {
         assert_eq!(distinct.len(), 1680);
         for x in &all {
             assert_eq!(
-                x.masks[..3]
-                    .iter()
-                    .map(|m| m.count_ones())
-                    .collect::<Vec<_>>(),
+                x.masks[..3].iter().map(|m| m.len()).collect::<Vec<_>>(),
                 [3, 3, 3]
             );
-            assert_eq!(x.masks[0] | x.masks[1] | x.masks[2], 0x1ff);
+            assert_eq!(x.masks[0] | x.masks[1] | x.masks[2], CardSet::first(9));
         }
         let sixteen = Config::from_name("16c-2p").unwrap();
         assert_eq!(count_colourings(&sixteen), 63_063_000);
@@ -194,7 +194,7 @@ mod tests {
             for &(card, colour) in &known {
                 assert_eq!(x.colour_of(card), colour);
             }
-            assert!(x.masks.iter().all(|m| m.count_ones() == 4));
+            assert!(x.masks.iter().all(|m| m.len() == 4));
         }
     }
 }

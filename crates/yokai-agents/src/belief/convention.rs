@@ -4,7 +4,7 @@
 //! how moves and hints carry information (docs/bots.md states the rules for people).
 
 use super::colouring::Colouring;
-use yokai_engine::{cards_in, Action, Card, Cell, HintSlot, PublicView, Seat, Substep};
+use yokai_engine::{Action, Card, Cell, HintSlot, PublicView, Seat, Substep};
 
 /// The tunable parts of the convention.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -79,11 +79,8 @@ fn colour_counts(set: &[Colouring], cards: usize) -> Vec<[u32; 4]> {
     let mut counts = vec![[0u32; 4]; cards];
     for x in set {
         for (c, &mask) in x.masks.iter().enumerate() {
-            let mut m = mask;
-            while m != 0 {
-                let card = m.trailing_zeros() as usize;
-                counts[card][c] += 1;
-                m &= m - 1;
+            for card in mask.iter() {
+                counts[card.index()][c] += 1;
             }
         }
     }
@@ -102,7 +99,7 @@ fn choose_observe(view: &PublicView<'_>, posterior: &[Colouring]) -> Action {
     let options: Vec<(f64, Card)> = counts
         .iter()
         .enumerate()
-        .filter(|&(card, _)| excluded & (1 << card) == 0)
+        .filter(|&(card, _)| !excluded.contains(Card(card as u8)))
         .map(|(card, count)| {
             (
                 -f64::from(*count.iter().max().unwrap_or(&0)),
@@ -119,14 +116,9 @@ fn same_colour(set: &[Colouring], cards: usize) -> Vec<f64> {
     let mut same = vec![0u32; cards * cards];
     for x in set {
         for &mask in &x.masks {
-            let mut a = mask;
-            while a != 0 {
-                let i = a.trailing_zeros() as usize;
-                a &= a - 1;
-                let mut b = a;
-                while b != 0 {
-                    let j = b.trailing_zeros() as usize;
-                    b &= b - 1;
+            for (n, a) in mask.iter().enumerate() {
+                for b in mask.iter().skip(n + 1) {
+                    let (i, j) = (a.index(), b.index());
                     same[i * cards + j] += 1;
                     same[j * cards + i] += 1;
                 }
@@ -185,7 +177,9 @@ fn seen_this_turn(view: &PublicView<'_>, posterior: &[Colouring]) -> usize {
         return 0;
     };
     let c = view.config().colours();
-    cards_in(view.turn_observed()).fold(0, |k, card| k * c + colouring.colour_of(card).index())
+    view.turn_observed()
+        .iter()
+        .fold(0, |k, card| k * c + colouring.colour_of(card).index())
 }
 
 /// PLACE a revealed hint where it is certainly true (preferring the card whose colour the

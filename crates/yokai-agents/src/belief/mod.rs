@@ -23,9 +23,7 @@ pub use convention::BeliefParams;
 use rand_chacha::rand_core::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use std::sync::Arc;
-use yokai_engine::{
-    cards_in, derive_seed, Action, Config, PublicView, Seat, SeatView, MAX_COLOURS,
-};
+use yokai_engine::{derive_seed, Action, CardSet, Config, PublicView, Seat, SeatView, MAX_COLOURS};
 
 /// Largest number of colourings the bot lists exactly.
 pub const EXACT_LIMIT: u128 = 100_000;
@@ -42,7 +40,7 @@ pub struct BeliefPolicy {
     public: Vec<Colouring>,
     /// False once partners' actions contradicted the convention this episode.
     trusting: bool,
-    scratch: Vec<([u32; MAX_COLOURS], Colouring)>,
+    scratch: Vec<([CardSet; MAX_COLOURS], Colouring)>,
 }
 
 impl BeliefPolicy {
@@ -93,14 +91,15 @@ impl BeliefPolicy {
         let config = *view.config();
         self.prepare(&config);
         let known = view.known_cards();
-        let mut key = [0u32; MAX_COLOURS];
-        for card in cards_in(known) {
+        let mut key = [CardSet::EMPTY; MAX_COLOURS];
+        for card in known.iter() {
             if let Some(colour) = view.known_colour(card) {
-                key[colour.index()] |= card.bit();
+                key[colour.index()].insert(card);
             }
         }
         if self.all.is_none() {
-            let first_hand: Vec<_> = cards_in(known)
+            let first_hand: Vec<_> = known
+                .iter()
                 .filter_map(|c| view.known_colour(c).map(|col| (c, col)))
                 .collect();
             let mut rng = ChaCha8Rng::seed_from_u64(derive_seed(self.seed, view.steps() as u64));

@@ -13,7 +13,7 @@ use ratatui::style::{Color, Modifier, Style};
 use ratatui::text::{Line, Span};
 use ratatui::widgets::{Block, Borders, List, ListItem, ListState, Paragraph, Wrap};
 use ratatui::Frame;
-use yokai_engine::{Cell, Colour, Game, HintSlot, Phase, Seat};
+use yokai_engine::{CardSet, Cell, Colour, Game, HintSlot, Phase, Seat};
 
 pub fn run(session: &mut Session, color: bool) -> anyhow::Result<()> {
     let mut terminal = ratatui::init();
@@ -95,7 +95,9 @@ fn colour_style(colour: Colour, color: bool) -> Style {
 /// The grid as the viewer knows it (`None`: the true board).
 fn board(game: &Game, viewer: Option<Seat>, color: bool) -> Vec<Line<'static>> {
     let g = game.config().grid();
-    let known = viewer.map_or(u32::MAX, |s| game.known_cards(s));
+    let known = viewer.map_or(CardSet::first(game.config().cards()), |s| {
+        game.known_cards(s)
+    });
     let mut lines = vec![Line::from(
         std::iter::once("   ".to_string())
             .chain((0..g).map(|c| format!("{c:<4}")))
@@ -108,7 +110,7 @@ fn board(game: &Game, viewer: Option<Seat>, color: bool) -> Vec<Line<'static>> {
                 None => spans.push(Span::raw(".   ")),
                 Some(card) => {
                     let hinted = game.is_hinted(card);
-                    let (text, mut style) = if known >> card.0 & 1 == 1 {
+                    let (text, mut style) = if known.contains(card) {
                         let colour = game.colour_of(card);
                         (
                             format!("{}{}", colour.letter(), card.0),

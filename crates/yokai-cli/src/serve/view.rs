@@ -35,7 +35,7 @@ fn board(game: &Game, seat: Seat, all: bool) -> Value {
                 "col": cell.col,
                 "colour": colour.map(|c| c.name()),
                 "hint": game.hint_on(card).map(|h| h.0),
-                "observed": public.turn_observed() >> k & 1 == 1,
+                "observed": public.turn_observed().contains(card),
             })
         })
         .collect();

@@ -123,7 +123,7 @@ pub fn play_checked(
     let p = config.players();
     let y = config.cards();
     let n_a = config.num_actions();
-    let mut ever = vec![0u32; p];
+    let mut ever = vec![CardSet::EMPTY; p];
     let mut hinted_at: Vec<Option<Cell>> = vec![None; y];
     let mut states = Vec::new();
     let mut step_index = 0u64;
@@ -163,7 +163,7 @@ pub fn play_checked(
         assert_eq!(game.deal(), initial_deal);
         for colour in 0..config.colours() {
             assert_eq!(
-                game.cards_of_colour(Colour(colour as u8)).count_ones() as usize,
+                game.cards_of_colour(Colour(colour as u8)).len(),
                 config.cards_per_colour()
             );
         }
@@ -207,7 +207,7 @@ pub fn play_checked(
                     game.turn_observed()
                 }
                 // A finished game has no turn in progress, whichever way it ended.
-                Memory::Imperfect => 0,
+                Memory::Imperfect => CardSet::EMPTY,
             };
             assert_eq!(game.known_cards(seat), may_know, "{seat}");
             let mut private = vec![0u8; config.image_shape(Part::Private).iter().product()];
@@ -218,7 +218,7 @@ pub fn play_checked(
                 let px = (cell.row as usize * (config.grid() + 1) + cell.col as usize) * c;
                 let shown: Vec<u8> = private[px..px + c].to_vec();
                 let mut expected = vec![0u8; c];
-                if may_know >> k & 1 == 1 {
+                if may_know.contains(Card(k as u8)) {
                     expected[game.colour_of(Card(k as u8)).index()] = 1;
                 }
                 assert_eq!(shown, expected, "{seat} card {k}");
@@ -273,7 +273,7 @@ pub fn play_checked(
         let twin_step = twin.apply(sym.apply_action(&config, action)).unwrap();
         assert_eq!(step, twin_step, "the symmetric game scored differently");
         let expected_shaping = match action {
-            Action::Observe(card) => (ever[seat] & card.bit() == 0) as i32,
+            Action::Observe(card) => !ever[seat].contains(card) as i32,
             Action::Place(slot, card) => recorded
                 .game()
                 .hint_colours(slot)
@@ -283,7 +283,7 @@ pub fn play_checked(
         };
         assert_eq!(step.shaping, expected_shaping, "{action}");
         if let Action::Observe(card) = action {
-            ever[seat] |= card.bit();
+            ever[seat].insert(card);
         }
         assert_eq!(step.done, recorded.game().is_over());
         if step.done {

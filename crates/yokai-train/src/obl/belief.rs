@@ -12,11 +12,12 @@
 
 use rand_chacha::ChaCha8Rng;
 use yokai_agents::belief::colouring::sample_colouring;
-use yokai_engine::{cards_in, Card, Colour, Game, Seat};
+use yokai_engine::{Card, Colour, Game, Seat};
 
 /// The cards `seat` has observed in `game`, with their colours.
 pub fn first_hand(game: &Game, seat: Seat) -> Vec<(Card, Colour)> {
-    cards_in(game.ever_observed(seat))
+    game.ever_observed(seat)
+        .iter()
         .map(|card| (card, game.colour_of(card)))
         .collect()
 }
@@ -26,7 +27,8 @@ pub fn first_hand(game: &Game, seat: Seat) -> Vec<(Card, Colour)> {
 pub fn first_hand_slots(game: &Game, seat: Seat) -> Vec<Option<u8>> {
     let seen = game.ever_observed(seat);
     (0..game.config().cards())
-        .map(|k| (seen >> k & 1 == 1).then(|| game.colour_of(Card(k as u8)).0))
+        .map(|k| Card(k as u8))
+        .map(|card| seen.contains(card).then(|| game.colour_of(card).0))
         .collect()
 }
 
@@ -104,7 +106,7 @@ mod tests {
         // Seat 0 observes cards 0 and 1, moves, reveals; seat 1 plays; seat 0 observes card 2.
         let mut game = random_history(config, 11, 0);
         let mut rng = ChaCha8Rng::seed_from_u64(5);
-        while game.ever_observed(Seat(0)).count_ones() < 3 {
+        while game.ever_observed(Seat(0)).len() < 3 {
             let legal = game.legal_actions(game.current_seat());
             let pick = (rng.next_u64() % legal.len() as u64) as usize;
             game.apply(legal[pick]).unwrap();

@@ -19,7 +19,7 @@ use crate::distribution::sample_legal;
 use crate::TrainedPolicy;
 use rand_chacha::rand_core::SeedableRng;
 use rand_chacha::ChaCha8Rng;
-use yokai_engine::{derive_seed, Card, Config, Game, Seat};
+use yokai_engine::{derive_seed, Card, CardSet, Config, Game, Seat};
 
 /// Memories recorded in games, one row per (episode, step, recorded seat).
 #[derive(Clone, Debug, Default)]
@@ -29,8 +29,8 @@ pub struct Records {
     pub states: Vec<f32>,
     /// `[rows × Y]`: every card's true colour.
     pub colours: Vec<u8>,
-    /// Per row: the cards the seat has observed itself (bit k = card k).
-    pub seen: Vec<u32>,
+    /// Per row: the cards the seat has observed itself.
+    pub seen: Vec<CardSet>,
     /// Per row: the game step (0 = the first state) and the episode index.
     pub steps: Vec<u16>,
     pub episodes: Vec<u32>,
@@ -167,15 +167,13 @@ pub struct StepAccuracy {
 
 /// The perfect-memory oracle's guess for card `k`: its colour where seen, else the colour
 /// with the most cards not seen (the lowest such colour on a tie).
-fn oracle(game: &Config, colours: &[u8], seen: u32, k: usize) -> u8 {
-    if seen >> k & 1 == 1 {
+fn oracle(game: &Config, colours: &[u8], seen: CardSet, k: usize) -> u8 {
+    if seen.contains(Card(k as u8)) {
         return colours[k];
     }
     let mut left = vec![game.cards_per_colour(); game.colours()];
-    for (j, &c) in colours.iter().enumerate() {
-        if seen >> j & 1 == 1 {
-            left[c as usize] -= 1;
-        }
+    for card in seen.iter() {
+        left[colours[card.index()] as usize] -= 1;
     }
     let best = (0..left.len()).max_by_key(|&c| (left[c], usize::MAX - c));
     best.unwrap_or(0) as u8
@@ -206,7 +204,7 @@ pub fn evaluate(
             s[0] += hit;
             s[1] += sure;
             s[2] += 1;
-            if seen >> k & 1 == 0 {
+            if !seen.contains(Card(k as u8)) {
                 s[3] += hit;
                 s[4] += sure;
                 s[5] += 1;
@@ -268,14 +266,14 @@ mod tests {
         let game = Config::from_name("9c-2p").unwrap();
         let colours = [0, 0, 0, 1, 1, 1, 2, 2, 2];
         // Seen: cards 0, 1 (colour 0) and 3 (colour 1): left 1, 2, 3 → colour 2 for the rest.
-        let seen = 0b1011;
+        let seen = CardSet::from_iter([Card(0), Card(1), Card(3)]);
         assert_eq!(oracle(&game, &colours, seen, 0), 0);
         assert_eq!(oracle(&game, &colours, seen, 3), 1);
         for k in [2, 4, 5, 6, 7, 8] {
             assert_eq!(oracle(&game, &colours, seen, k), 2, "card {k}");
         }
         // Nothing seen: a tie, the lowest colour.
-        assert_eq!(oracle(&game, &colours, 0, 5), 0);
+        assert_eq!(oracle(&game, &colours, CardSet::EMPTY, 5), 0);
     }
 
     /// With memories that hold every colour linearly (a one-hot per card), the probes read
@@ -300,7 +298,7 @@ mod tests {
                         }
                         r.colours.push(deal[k].0);
                     }
-                    r.seen.push(0b1);
+                    r.seen.push(CardSet::from(Card(0)));
                     r.steps.push(step);
                     r.episodes.push(episode);
                 }
