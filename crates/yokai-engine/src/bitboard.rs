@@ -45,7 +45,10 @@ impl Bitboard {
         Bitboard(self.0 & self.0.wrapping_neg())
     }
 
-    /// Cell indices in increasing order.
+    /// The set's bit indices in increasing order: a grid's cell indices
+    /// ([`Geometry::index`]), which is what move generation, action indices and per-cell
+    /// tables are computed from. A bitboard does not know its grid's side, so the cells
+    /// themselves come from [`Geometry::cells_in`].
     #[inline]
     pub fn iter(self) -> BitIter {
         BitIter {
@@ -220,6 +223,11 @@ impl Geometry {
     #[inline(always)]
     pub fn cell(&self, index: usize) -> Cell {
         Cell::new(index / self.side(), index % self.side())
+    }
+
+    /// The cells of a set on this grid, in increasing index order (row by row).
+    pub fn cells_in(&self, set: Bitboard) -> impl Iterator<Item = Cell> + '_ {
+        set.iter().map(|index| self.cell(index))
     }
 
     pub fn contains(&self, cell: Cell) -> bool {
@@ -472,18 +480,10 @@ mod tests {
         let geo = Geometry::new(9);
         // r0c8 is at the end of row 0; its right neighbour would be r1c0 if shifts wrapped.
         let end_of_row = Bitboard::from_index(geo.index(Cell::new(0, 8)));
-        let n: Vec<Cell> = geo
-            .neighbours(end_of_row)
-            .iter()
-            .map(|i| geo.cell(i))
-            .collect();
+        let n: Vec<Cell> = geo.cells_in(geo.neighbours(end_of_row)).collect();
         assert_eq!(n, vec![Cell::new(0, 7), Cell::new(1, 8)]);
         let start_of_row = Bitboard::from_index(geo.index(Cell::new(4, 0)));
-        let n: Vec<Cell> = geo
-            .neighbours(start_of_row)
-            .iter()
-            .map(|i| geo.cell(i))
-            .collect();
+        let n: Vec<Cell> = geo.cells_in(geo.neighbours(start_of_row)).collect();
         assert_eq!(n, vec![Cell::new(3, 0), Cell::new(4, 1), Cell::new(5, 0)]);
     }
 
@@ -491,7 +491,7 @@ mod tests {
     fn neighbours_stay_on_the_largest_board() {
         let geo = Geometry::new(MAX_GRID);
         let corner = Bitboard::from_index(geo.index(Cell::new(10, 10)));
-        let n: Vec<Cell> = geo.neighbours(corner).iter().map(|i| geo.cell(i)).collect();
+        let n: Vec<Cell> = geo.cells_in(geo.neighbours(corner)).collect();
         assert_eq!(n, vec![Cell::new(9, 10), Cell::new(10, 9)]);
     }
 
