@@ -7,7 +7,7 @@ use pyo3::prelude::*;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use yokai_agents::{Policy, PolicySpec};
-use yokai_engine::{Config, Game, Seat};
+use yokai_engine::{Config, Game};
 #[cfg(feature = "trained")]
 use yokai_train::TrainedPolicy;
 
@@ -94,18 +94,18 @@ impl PyAgent {
 
     /// Show this agent, sitting at ``seat``, that the acting seat of ``env`` is about to
     /// play ``action``.
-    fn observe(&mut self, env: PyRef<'_, PyEnv>, seat: usize, action: usize) -> PyResult<()> {
+    fn observe(
+        &mut self,
+        env: PyRef<'_, PyEnv>,
+        seat: &Bound<'_, PyAny>,
+        action: usize,
+    ) -> PyResult<()> {
         let game = env.game();
         self.check_game(game)?;
-        if seat >= game.config().players() {
-            return Err(pyo3::exceptions::PyValueError::new_err(format!(
-                "there is no seat {seat} in a {}-player game",
-                game.config().players()
-            )));
-        }
+        let seat = crate::errors::seat_arg(seat, game.config().players())?;
         let action = game.config().decode(action).map_err(illegal)?;
         self.policy()
-            .observe(&game.view(Seat(seat as u8)), game.current_seat(), action);
+            .observe(&game.view(seat), game.current_seat(), action);
         Ok(())
     }
 

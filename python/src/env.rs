@@ -34,10 +34,10 @@ impl PyEnv {
         self.game.game().config()
     }
 
-    fn seat(&self, seat: Option<i64>) -> PyResult<Seat> {
+    fn seat(&self, seat: Option<&Bound<'_, PyAny>>) -> PyResult<Seat> {
         match seat {
             None => Ok(self.game().current_seat()),
-            Some(s) => crate::errors::seat(s, self.config_ref().players()),
+            Some(s) => crate::errors::seat_arg(s, self.config_ref().players()),
         }
     }
 
@@ -164,7 +164,7 @@ impl PyEnv {
 
     /// Legal action indices of ``seat`` (only NOOP for a seat that is not acting).
     #[pyo3(signature = (seat=None))]
-    fn legal_actions(&self, seat: Option<i64>) -> PyResult<Vec<usize>> {
+    fn legal_actions(&self, seat: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<usize>> {
         let seat = self.seat(seat)?;
         let mut out = Vec::new();
         self.game().for_each_legal_index(seat, |i| out.push(i));
@@ -176,7 +176,7 @@ impl PyEnv {
     fn legal_mask<'py>(
         &self,
         py: Python<'py>,
-        seat: Option<i64>,
+        seat: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Bound<'py, PyArrayDyn<u8>>> {
         let seat = self.seat(seat)?;
         let n_a = self.config_ref().num_actions();
@@ -206,7 +206,7 @@ impl PyEnv {
 
     /// Text picture: the true board (``seat=None``) or what ``seat`` knows.
     #[pyo3(signature = (seat=None))]
-    fn render(&self, seat: Option<i64>) -> PyResult<String> {
+    fn render(&self, seat: Option<&Bound<'_, PyAny>>) -> PyResult<String> {
         match seat {
             None => Ok(render_truth(self.game())),
             Some(s) => Ok(render_seat(self.game(), self.seat(Some(s))?)),
@@ -219,7 +219,7 @@ impl PyEnv {
     fn observation(
         &self,
         py: Python<'_>,
-        seat: Option<i64>,
+        seat: Option<&Bound<'_, PyAny>>,
         encoding: &str,
         dtype: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Py<PyAny>> {

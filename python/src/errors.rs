@@ -42,6 +42,39 @@ pub fn replay_error(e: impl std::fmt::Display) -> PyErr {
     ReplayError::new_err(e.to_string())
 }
 
+/// A seat given from Python: an int (or anything with ``__index__``, such as a NumPy
+/// integer) in range, else a ValueError naming it, however large or negative; ``bool`` and
+/// non-integers are a TypeError (``True`` would otherwise be seat 1).
+pub fn seat_arg(
+    seat: &pyo3::Bound<'_, pyo3::PyAny>,
+    players: usize,
+) -> pyo3::PyResult<yokai_engine::Seat> {
+    use pyo3::types::{PyAnyMethods, PyTypeMethods};
+    let type_error = || {
+        pyo3::exceptions::PyTypeError::new_err(format!(
+            "a seat is an int, not {}",
+            seat.get_type()
+                .name()
+                .map(|n| n.to_string())
+                .unwrap_or_default()
+        ))
+    };
+    if seat.is_instance_of::<pyo3::types::PyBool>() {
+        return Err(type_error());
+    }
+    let index = seat
+        .py()
+        .import("operator")?
+        .call_method1("index", (seat,))
+        .map_err(|_| type_error())?;
+    match index.extract::<i64>() {
+        Ok(s) => self::seat(s, players),
+        Err(_) => Err(PyValueError::new_err(format!(
+            "there is no seat {index} in a {players}-player game"
+        ))),
+    }
+}
+
 /// Seat `seat` of a `players`-player game, or a ValueError naming it (Python ints may be
 /// negative or huge, so the check is on `i64`).
 pub fn seat(seat: i64, players: usize) -> pyo3::PyResult<yokai_engine::Seat> {

@@ -276,7 +276,7 @@ impl PyVecEnv {
 
     /// Text picture of game ``env``: the true board, or what ``seat`` knows of it.
     #[pyo3(signature = (env, seat=None))]
-    fn render(&self, env: i64, seat: Option<i64>) -> PyResult<String> {
+    fn render(&self, env: i64, seat: Option<&Bound<'_, PyAny>>) -> PyResult<String> {
         if !(0..self.options.num_envs as i64).contains(&env) {
             return Err(PyValueError::new_err(format!(
                 "there is no game {env} in a batch of {}",
@@ -287,7 +287,7 @@ impl PyVecEnv {
             let game = e.game(env as usize);
             match seat {
                 None => Ok(render_truth(game)),
-                Some(s) => Ok(render_seat(game, crate::errors::seat(s, self.config.players())?)),
+                Some(s) => Ok(render_seat(game, crate::errors::seat_arg(s, self.config.players())?)),
             }
         })
     }
