@@ -48,25 +48,8 @@ impl PyEnv {
         if let Ok(name) = action.extract::<String>() {
             return name.parse::<Action>().map_err(illegal);
         }
-        let type_error = || {
-            pyo3::exceptions::PyTypeError::new_err(format!(
-                "an action is an int index or a name, not {}",
-                action
-                    .get_type()
-                    .name()
-                    .map(|n| n.to_string())
-                    .unwrap_or_default()
-            ))
-        };
         // True would otherwise be index 1 (END).
-        if action.is_instance_of::<pyo3::types::PyBool>() {
-            return Err(type_error());
-        }
-        let index = action
-            .py()
-            .import("operator")?
-            .call_method1("index", (action,))
-            .map_err(|_| type_error())?;
+        let index = crate::errors::int_index(action, "an action is an int index or a name")?;
         let n = self.config_ref().num_actions();
         let out_of_range = || illegal(format!("action {index} is not an action index (0..{n})"));
         let index: i64 = index.extract().map_err(|_| out_of_range())?;

@@ -42,31 +42,43 @@ pub fn replay_error(e: impl std::fmt::Display) -> PyErr {
     ReplayError::new_err(e.to_string())
 }
 
-/// A seat given from Python: an int (or anything with ``__index__``, such as a NumPy
-/// integer) in range, else a ValueError naming it, however large or negative; ``bool`` and
-/// non-integers are a TypeError (``True`` would otherwise be seat 1).
-pub fn seat_arg(
-    seat: &pyo3::Bound<'_, pyo3::PyAny>,
-    players: usize,
-) -> pyo3::PyResult<yokai_engine::Seat> {
+/// `value` as a Python int: itself, or what its ``__index__`` gives (NumPy integers).
+/// ``bool`` and non-integers are a TypeError that says `expected` and names the type given
+/// (``True`` is an int to Python, and would otherwise be index 1).
+pub fn int_index<'py>(
+    value: &pyo3::Bound<'py, pyo3::PyAny>,
+    expected: &str,
+) -> pyo3::PyResult<pyo3::Bound<'py, pyo3::PyAny>> {
     use pyo3::types::{PyAnyMethods, PyTypeMethods};
     let type_error = || {
         pyo3::exceptions::PyTypeError::new_err(format!(
-            "a seat is an int, not {}",
-            seat.get_type()
+            "{expected}, not {}",
+            value
+                .get_type()
                 .name()
                 .map(|n| n.to_string())
                 .unwrap_or_default()
         ))
     };
-    if seat.is_instance_of::<pyo3::types::PyBool>() {
+    if value.is_instance_of::<pyo3::types::PyBool>() {
         return Err(type_error());
     }
-    let index = seat
+    value
         .py()
         .import("operator")?
-        .call_method1("index", (seat,))
-        .map_err(|_| type_error())?;
+        .call_method1("index", (value,))
+        .map_err(|_| type_error())
+}
+
+/// A seat given from Python: an int (or anything with ``__index__``, such as a NumPy
+/// integer) in range, else a ValueError naming it, however large or negative; ``bool`` and
+/// non-integers are a TypeError.
+pub fn seat_arg(
+    seat: &pyo3::Bound<'_, pyo3::PyAny>,
+    players: usize,
+) -> pyo3::PyResult<yokai_engine::Seat> {
+    use pyo3::types::PyAnyMethods;
+    let index = int_index(seat, "a seat is an int")?;
     match index.extract::<i64>() {
         Ok(s) => self::seat(s, players),
         Err(_) => Err(PyValueError::new_err(format!(
