@@ -6,7 +6,7 @@
 
 use yokai_agents::belief::colouring::Colouring;
 use yokai_agents::belief::convention::{decide, BeliefParams};
-use yokai_engine::{Card, Config, Game, MetricsAccumulator};
+use yokai_engine::{Config, Game, MetricsAccumulator};
 
 fn main() -> Result<(), String> {
     let mut args = std::env::args().skip(1);
@@ -20,10 +20,7 @@ fn main() -> Result<(), String> {
     let mut metrics = MetricsAccumulator::default();
     for seed in 0..games {
         let mut game = Game::new(config, seed);
-        let mut truth = Colouring::default();
-        for k in 0..config.cards() {
-            truth.masks[game.colour_of(Card(k as u8)).index()].insert(Card(k as u8));
-        }
+        let truth = Colouring::from_colours(&game.deal().card_colours);
         loop {
             let seat = game.current_seat();
             let view = game.view(seat);

@@ -3,7 +3,7 @@
 use yokai_agents::belief::colouring::{all_colourings, Colouring};
 use yokai_agents::eval::{play_group, seatings, PolicyFactory};
 use yokai_agents::{play_episode, BeliefParams, BeliefPolicy, Policy, PolicySpec};
-use yokai_engine::{derive_seed, Action, Card, CardSet, Config, Deal, Game, Seat, MAX_COLOURS};
+use yokai_engine::{derive_seed, Action, Card, CardSet, Config, Deal, Game, Seat};
 
 fn specs() -> Vec<PolicySpec> {
     ["random", "greedy", "belief"]
@@ -158,7 +158,7 @@ fn posterior_equals_brute_force_over_all_deals() {
             }
             game.apply(action).unwrap();
         }
-        let truth = deal_of_truth(&deal);
+        let truth = Colouring::from_colours(&deal.card_colours);
         assert!(
             consistent.contains(&truth),
             "{name}: the true colouring must be possible"
@@ -186,14 +186,6 @@ fn posterior_equals_brute_force_over_all_deals() {
             );
         }
     }
-}
-
-fn deal_of_truth(deal: &Deal) -> Colouring {
-    let mut masks = [CardSet::EMPTY; MAX_COLOURS];
-    for (card, colour) in deal.card_colours.iter().enumerate() {
-        masks[colour.index()].insert(Card(card as u8));
-    }
-    Colouring { masks }
 }
 
 #[test]
@@ -393,7 +385,7 @@ fn deals_where_partner_learns(
         let history = belief_history(config, &deal, steps, seed);
         let cards = named(&history);
         let partner = partner_after(config, &deal, &history, seed);
-        let truth = deal_of_truth(&deal);
+        let truth = Colouring::from_colours(&deal.card_colours);
         assert!(partner.is_trusting());
         assert!(
             partner.public_set().contains(&truth),

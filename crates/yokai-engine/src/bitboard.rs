@@ -58,52 +58,7 @@ impl Bitboard {
     }
 }
 
-impl std::ops::BitOr for Bitboard {
-    type Output = Bitboard;
-    #[inline(always)]
-    fn bitor(self, rhs: Bitboard) -> Bitboard {
-        Bitboard(self.0 | rhs.0)
-    }
-}
-impl std::ops::BitAnd for Bitboard {
-    type Output = Bitboard;
-    #[inline(always)]
-    fn bitand(self, rhs: Bitboard) -> Bitboard {
-        Bitboard(self.0 & rhs.0)
-    }
-}
-impl std::ops::BitXor for Bitboard {
-    type Output = Bitboard;
-    #[inline(always)]
-    fn bitxor(self, rhs: Bitboard) -> Bitboard {
-        Bitboard(self.0 ^ rhs.0)
-    }
-}
-impl std::ops::Not for Bitboard {
-    type Output = Bitboard;
-    #[inline(always)]
-    fn not(self) -> Bitboard {
-        Bitboard(!self.0)
-    }
-}
-impl std::ops::BitOrAssign for Bitboard {
-    #[inline(always)]
-    fn bitor_assign(&mut self, rhs: Bitboard) {
-        self.0 |= rhs.0;
-    }
-}
-impl std::ops::BitAndAssign for Bitboard {
-    #[inline(always)]
-    fn bitand_assign(&mut self, rhs: Bitboard) {
-        self.0 &= rhs.0;
-    }
-}
-impl std::ops::BitXorAssign for Bitboard {
-    #[inline(always)]
-    fn bitxor_assign(&mut self, rhs: Bitboard) {
-        self.0 ^= rhs.0;
-    }
-}
+crate::types::bit_set_ops!(Bitboard);
 
 impl fmt::Debug for Bitboard {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {

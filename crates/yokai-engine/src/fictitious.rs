@@ -9,7 +9,7 @@
 
 use crate::deal::{Deal, DealError};
 use crate::game::Game;
-use crate::types::{Card, Colour};
+use crate::types::Colour;
 
 impl Game {
     /// This game with its cards coloured by `card_colours` (one colour per card id, each
@@ -31,11 +31,7 @@ impl Game {
         };
         deal.validate(&self.config)?;
         let mut game = self.clone();
-        game.colour_cards = Default::default();
-        for (k, &colour) in card_colours.iter().enumerate() {
-            game.colour_of[k] = colour;
-            game.colour_cards[colour.index()].insert(Card(k as u8));
-        }
+        game.set_card_colours(card_colours);
         Ok(game)
     }
 }
@@ -44,7 +40,7 @@ impl Game {
 mod tests {
     use super::*;
     use crate::config::Config;
-    use crate::types::{CardSet, Seat};
+    use crate::types::{Card, CardSet, Seat};
 
     fn colours(ids: &[u8]) -> Vec<Colour> {
         ids.iter().map(|&c| Colour(c)).collect()
@@ -60,15 +56,12 @@ mod tests {
         let new = colours(&[2, 2, 2, 1, 1, 1, 0, 0, 0]);
         let fict = game.with_card_colours(&new).unwrap();
         for (k, &colour) in new.iter().enumerate() {
-            assert_eq!(fict.colour_of(crate::types::Card(k as u8)), colour);
+            assert_eq!(fict.colour_of(Card(k as u8)), colour);
         }
-        assert_eq!(
-            fict.cards_of_colour(Colour(2)),
-            CardSet::from_bits(0b000_000_111)
-        );
+        assert_eq!(fict.cards_of_colour(Colour(2)), CardSet::first(3));
         assert_eq!(
             fict.cards_of_colour(Colour(0)),
-            CardSet::from_bits(0b111_000_000)
+            (6..9).map(Card).collect::<CardSet>()
         );
         assert_eq!(fict.ever_observed(Seat(0)), game.ever_observed(Seat(0)));
         assert_eq!(fict.steps(), game.steps());

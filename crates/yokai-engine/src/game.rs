@@ -156,7 +156,7 @@ pub struct Game {
     pub(crate) cell_of: [u8; MAX_CARDS],
     pub(crate) occupied: Bitboard,
     pub(crate) colour_of: [Colour; MAX_CARDS],
-    /// Card mask of each colour.
+    /// The cards of each colour.
     pub(crate) colour_cards: [CardSet; MAX_COLOURS],
     pub(crate) hint_colours: [ColourSet; MAX_HINTS],
     /// Slots `0..revealed` are face up.
@@ -240,24 +240,19 @@ impl Game {
         let (row0, col0, side) = config.start_square();
         let mut cell_of = [0u8; MAX_CARDS];
         let mut occupied = Bitboard::EMPTY;
-        let mut colour_of = [Colour(0); MAX_CARDS];
-        let mut colour_cards = [CardSet::EMPTY; MAX_COLOURS];
-        for k in 0..config.cards() {
-            let cell = Cell::new(row0 + k / side, col0 + k % side);
-            let index = geo.index(cell);
-            cell_of[k] = index as u8;
+        for (k, cell) in cell_of[..config.cards()].iter_mut().enumerate() {
+            let index = geo.index(Cell::new(row0 + k / side, col0 + k % side));
+            *cell = index as u8;
             occupied |= Bitboard::from_index(index);
-            colour_of[k] = card_colours[k];
-            colour_cards[card_colours[k].index()].insert(Card(k as u8));
         }
         let mut hints = [ColourSet(0); MAX_HINTS];
         hints[..config.hints()].copy_from_slice(hint_colours);
-        Game {
+        let mut game = Game {
             config,
             cell_of,
             occupied,
-            colour_of,
-            colour_cards,
+            colour_of: [Colour(0); MAX_CARDS],
+            colour_cards: [CardSet::EMPTY; MAX_COLOURS],
             hint_colours: hints,
             revealed: 0,
             hint_card: [NO_CARD; MAX_HINTS],
@@ -271,6 +266,18 @@ impl Game {
             steps: 0,
             phase: Phase::Playing,
             last_action: None,
+        };
+        game.set_card_colours(card_colours);
+        game
+    }
+
+    /// Card `k` gets colour `card_colours[k]`: its colour and its colour's card set (the
+    /// caller has validated the colours against the config).
+    pub(crate) fn set_card_colours(&mut self, card_colours: &[Colour]) {
+        self.colour_cards = [CardSet::EMPTY; MAX_COLOURS];
+        for (k, &colour) in card_colours.iter().enumerate() {
+            self.colour_of[k] = colour;
+            self.colour_cards[colour.index()].insert(Card(k as u8));
         }
     }
 

@@ -106,10 +106,67 @@ impl fmt::Display for Seat {
     }
 }
 
+/// The set operators of a bit-set newtype over an unsigned integer (`|`, `&`, `^`, `!` and
+/// their assigning forms), bit for bit: one definition for [`CardSet`] and
+/// [`crate::Bitboard`]. `!` complements within the whole integer, so a caller that cares
+/// about the board or the game's cards intersects with its universe.
+macro_rules! bit_set_ops {
+    ($set:ident) => {
+        impl std::ops::BitOr for $set {
+            type Output = $set;
+            #[inline(always)]
+            fn bitor(self, rhs: $set) -> $set {
+                $set(self.0 | rhs.0)
+            }
+        }
+        impl std::ops::BitAnd for $set {
+            type Output = $set;
+            #[inline(always)]
+            fn bitand(self, rhs: $set) -> $set {
+                $set(self.0 & rhs.0)
+            }
+        }
+        impl std::ops::BitXor for $set {
+            type Output = $set;
+            #[inline(always)]
+            fn bitxor(self, rhs: $set) -> $set {
+                $set(self.0 ^ rhs.0)
+            }
+        }
+        impl std::ops::Not for $set {
+            type Output = $set;
+            #[inline(always)]
+            fn not(self) -> $set {
+                $set(!self.0)
+            }
+        }
+        impl std::ops::BitOrAssign for $set {
+            #[inline(always)]
+            fn bitor_assign(&mut self, rhs: $set) {
+                self.0 |= rhs.0;
+            }
+        }
+        impl std::ops::BitAndAssign for $set {
+            #[inline(always)]
+            fn bitand_assign(&mut self, rhs: $set) {
+                self.0 &= rhs.0;
+            }
+        }
+        impl std::ops::BitXorAssign for $set {
+            #[inline(always)]
+            fn bitxor_assign(&mut self, rhs: $set) {
+                self.0 ^= rhs.0;
+            }
+        }
+    };
+}
+pub(crate) use bit_set_ops;
+
 /// A set of cards (by id), one bit per card: hinted cards, the cards a seat has seen, the
 /// cards of a colour. Iterating yields [`Card`]s, so card ids never travel as bare
-/// integers; [`CardSet::bits`] is there for the few places that store or hash the mask.
-#[derive(Clone, Copy, PartialEq, Eq, Hash, Default, PartialOrd, Ord, Serialize, Deserialize)]
+/// integers. `!` complements within all 32 possible ids: intersect with
+/// [`CardSet::first`] where the game's card count matters.
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Default, PartialOrd, Ord)]
 pub struct CardSet(u32);
 
 impl CardSet {
@@ -120,15 +177,6 @@ impl CardSet {
     pub fn first(n: usize) -> CardSet {
         debug_assert!(n <= MAX_CARDS);
         CardSet(if n >= 32 { u32::MAX } else { (1u32 << n) - 1 })
-    }
-    /// The set with these bits (bit k = card k).
-    #[inline(always)]
-    pub const fn from_bits(bits: u32) -> CardSet {
-        CardSet(bits)
-    }
-    #[inline(always)]
-    pub const fn bits(self) -> u32 {
-        self.0
     }
     #[inline(always)]
     pub fn contains(self, card: Card) -> bool {
@@ -181,41 +229,7 @@ impl FromIterator<Card> for CardSet {
     }
 }
 
-impl std::ops::BitOr for CardSet {
-    type Output = CardSet;
-    #[inline(always)]
-    fn bitor(self, rhs: CardSet) -> CardSet {
-        CardSet(self.0 | rhs.0)
-    }
-}
-impl std::ops::BitAnd for CardSet {
-    type Output = CardSet;
-    #[inline(always)]
-    fn bitand(self, rhs: CardSet) -> CardSet {
-        CardSet(self.0 & rhs.0)
-    }
-}
-/// The complement within all 32 possible ids: intersect with [`CardSet::first`] where the
-/// game's card count matters.
-impl std::ops::Not for CardSet {
-    type Output = CardSet;
-    #[inline(always)]
-    fn not(self) -> CardSet {
-        CardSet(!self.0)
-    }
-}
-impl std::ops::BitOrAssign for CardSet {
-    #[inline(always)]
-    fn bitor_assign(&mut self, rhs: CardSet) {
-        self.0 |= rhs.0;
-    }
-}
-impl std::ops::BitAndAssign for CardSet {
-    #[inline(always)]
-    fn bitand_assign(&mut self, rhs: CardSet) {
-        self.0 &= rhs.0;
-    }
-}
+bit_set_ops!(CardSet);
 
 impl fmt::Debug for CardSet {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -256,7 +270,7 @@ mod tests {
                 removed.remove(Card(k));
                 prop_assert!(!removed.contains(Card(k)) && removed.len() + 1 == ca.len());
             }
-            prop_assert_eq!(CardSet::from_bits(ca.bits()), ca);
+            prop_assert_eq!(ids(ca ^ cb), sa.symmetric_difference(&sb).copied().collect::<Vec<_>>());
         }
     }
 }

@@ -11,6 +11,15 @@ pub struct Colouring {
 }
 
 impl Colouring {
+    /// The colouring in which card `k` has `card_colours[k]` (a deal's card colours).
+    pub fn from_colours(card_colours: &[Colour]) -> Colouring {
+        let mut masks = [CardSet::EMPTY; MAX_COLOURS];
+        for (k, colour) in card_colours.iter().enumerate() {
+            masks[colour.index()].insert(Card(k as u8));
+        }
+        Colouring { masks }
+    }
+
     pub fn colour_of(&self, card: Card) -> Colour {
         let c = self
             .masks
