@@ -119,8 +119,9 @@ impl PyAgent {
     }
 }
 
-/// The `end` argument: `Some(t)` decides END at threshold `t`, `None` draws it.
-fn end_rule(end: &Bound<'_, PyAny>) -> PyResult<Option<f32>> {
+/// The `end` argument: `Some(t)` decides END at threshold `t` (checked where the policy
+/// takes it, `TrainedPolicy::set_end_threshold`), `None` draws it.
+fn end_rule(end: &Bound<'_, PyAny>) -> PyResult<Option<f64>> {
     if let Ok(text) = end.extract::<String>() {
         return match text.as_str() {
             "draw" => Ok(None),
@@ -129,17 +130,14 @@ fn end_rule(end: &Bound<'_, PyAny>) -> PyResult<Option<f32>> {
             ))),
         };
     }
-    match end.extract::<f64>() {
-        Ok(t) if t > 0.0 && t < 1.0 && !end.is_instance_of::<pyo3::types::PyBool>() => {
-            Ok(Some(t as f32))
-        }
-        Ok(t) => Err(pyo3::exceptions::PyValueError::new_err(format!(
-            "end={t}: an END threshold is a probability in (0, 1)"
-        ))),
-        Err(_) => Err(pyo3::exceptions::PyTypeError::new_err(
-            "end must be None, \"draw\" or a float in (0, 1)",
-        )),
+    if end.is_instance_of::<pyo3::types::PyBool>() {
+        return Err(pyo3::exceptions::PyValueError::new_err(format!(
+            "end={end}: give None, \"draw\" or a probability in (0, 1)"
+        )));
     }
+    end.extract::<f64>().map(Some).map_err(|_| {
+        pyo3::exceptions::PyTypeError::new_err("end must be None, \"draw\" or a float in (0, 1)")
+    })
 }
 
 /// A trained policy file, checkpoint or run directory, seated with `seed`; `end`, when
@@ -148,7 +146,7 @@ fn end_rule(end: &Bound<'_, PyAny>) -> PyResult<Option<f32>> {
 fn load_trained(
     name: &str,
     seed: u64,
-    end: Option<Option<f32>>,
+    end: Option<Option<f64>>,
 ) -> PyResult<((PathBuf, Config), Box<dyn Policy>)> {
     let mut policy = TrainedPolicy::load(Path::new(name)).map_err(config_error)?;
     if let Some(rule) = end {
@@ -164,7 +162,7 @@ fn load_trained(
 fn load_trained(
     name: &str,
     _seed: u64,
-    _end: Option<Option<f32>>,
+    _end: Option<Option<f64>>,
 ) -> PyResult<((PathBuf, Config), Box<dyn Policy>)> {
     Err(config_error(format!(
         "`{name}` is a trained policy, but this build of yokai has no trained-policy support \

@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 use yokai_agents::eval::{play_group, seatings, PolicyFactory};
 use yokai_agents::{Policy, PolicySpec};
 use yokai_engine::{Config, Metrics, MetricsAccumulator};
+use yokai_train::config::ActConfig;
 use yokai_train::TrainedPolicy;
 
 #[derive(clap::Args)]
@@ -59,7 +60,7 @@ pub enum EndRule {
     /// Drawn like any other action.
     Draw,
     /// END where P(END) exceeds the threshold.
-    Threshold(f32),
+    Threshold(f64),
 }
 
 impl std::str::FromStr for EndRule {
@@ -68,14 +69,23 @@ impl std::str::FromStr for EndRule {
         match s {
             "file" => Ok(EndRule::File),
             "draw" => Ok(EndRule::Draw),
-            _ => match s.parse::<f32>() {
-                Ok(t) if t > 0.0 && t < 1.0 => Ok(EndRule::Threshold(t)),
-                _ => Err(format!(
-                    "`{s}` is not an END rule: `file`, `draw` or a probability in (0, 1)"
-                )),
-            },
+            _ => s
+                .parse::<f64>()
+                .ok()
+                .filter(|&t| ActConfig::end_threshold_from(t).is_ok())
+                .map(EndRule::Threshold)
+                .ok_or_else(|| {
+                    format!("`{s}` is not an END rule: `file`, `draw` or a probability in (0, 1)")
+                }),
         }
     }
+}
+
+/// How a trained policy's name shows its END rule in the tables: ` (END > t)` where it
+/// decides END, nothing where it draws it.
+fn end_rule_label(p: &TrainedPolicy) -> String {
+    p.end_threshold()
+        .map_or_else(String::new, |t| format!(" (END > {t})"))
 }
 
 /// A policy in an evaluation: a built-in bot or a trained network.
@@ -102,11 +112,7 @@ impl Entry {
         match self {
             Entry::Builtin(spec) => spec.to_string(),
             Entry::Trained(p) => {
-                let dir = run_dir_of(p.path()).display().to_string();
-                match p.end_threshold() {
-                    Some(t) => format!("{dir} (END > {t})"),
-                    None => dir,
-                }
+                format!("{}{}", run_dir_of(p.path()).display(), end_rule_label(p))
             }
         }
     }
@@ -375,10 +381,7 @@ pub fn groups_of(entries: &[Entry]) -> Vec<(String, Vec<usize>)> {
             .filter(|d| !d.is_empty())
             .unwrap_or_else(|| run.display().to_string());
         // Seeds that choose END by different rules are different methods.
-        let method = match p.end_threshold() {
-            Some(t) => format!("{method} (END > {t})"),
-            None => method,
-        };
+        let method = method + &end_rule_label(p);
         match groups.iter_mut().find(|(m, _)| *m == method) {
             Some((_, members)) => members.push(i),
             None => groups.push((method, vec![i])),

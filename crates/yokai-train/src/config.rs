@@ -46,6 +46,16 @@ impl ActConfig {
     fn is_default(&self) -> bool {
         *self == ActConfig::default()
     }
+
+    /// `t` as an END threshold, or why it cannot be one: the one check for the config
+    /// field, `yokai eval --end` and Python's `end=`.
+    pub fn end_threshold_from(t: f64) -> Result<f32, String> {
+        if t > 0.0 && t < 1.0 {
+            Ok(t as f32)
+        } else {
+            Err(format!("must lie in (0, 1), a probability of END, not {t}"))
+        }
+    }
 }
 
 /// Off-Belief Learning (docs/training.md): the value target of each of a seat's actions
@@ -515,11 +525,8 @@ impl TrainConfig {
             );
         }
         if let Some(t) = self.act.end_threshold {
-            if !(t > 0.0 && t < 1.0) {
-                return bad(
-                    "act.end_threshold",
-                    "must lie in (0, 1): a probability of END",
-                );
+            if let Err(why) = ActConfig::end_threshold_from(t.into()) {
+                return bad("act.end_threshold", &why);
             }
         }
         if !(p.end_lookahead >= 0.0 && p.end_lookahead.is_finite()) {

@@ -102,28 +102,31 @@ pub fn sample_row(logits: &[f32], mask: &[f32], u: f64, greedy: bool) -> (usize,
 /// One move from a row of logits for a policy that decides END (`act.end_threshold`):
 /// where END (index `end`) is legal and its probability over the legal actions exceeds
 /// `threshold`, END; otherwise a draw (with `u`) over the other legal actions, renormalised.
-/// Where END is illegal, or the only legal action, this is [`sample_row`]'s draw.
-pub fn decide_end_row(logits: &[f32], mask: &[f32], u: f64, end: usize, threshold: f32) -> usize {
-    if mask[end] <= 0.5 {
-        return sample_row(logits, mask, u, false).0;
+/// Where END is illegal, or the only legal action, this is [`sample_row`]'s draw. When END
+/// is legal but not chosen, its entry of `mask` is cleared for that draw (the caller writes
+/// a fresh mask for every row), so no second mask is built per move.
+pub fn decide_end_row(
+    logits: &[f32],
+    mask: &mut [f32],
+    u: f64,
+    end: usize,
+    threshold: f32,
+) -> usize {
+    if mask[end] > 0.5 {
+        // P(END) = 1 / (1 + Σ_{a ≠ END} exp(l_a − l_END)), in f64 and without overflow.
+        let (mut others, mut any_other) = (0.0f64, false);
+        for (a, (&l, &m)) in logits.iter().zip(mask.iter()).enumerate() {
+            if m > 0.5 && a != end {
+                others += (l as f64 - logits[end] as f64).min(700.0).exp();
+                any_other = true;
+            }
+        }
+        if !any_other || 1.0 / (1.0 + others) > threshold as f64 {
+            return end;
+        }
+        mask[end] = 0.0;
     }
-    let mut rest = mask.to_vec();
-    rest[end] = 0.0;
-    if !rest.iter().any(|&m| m > 0.5) {
-        return end;
-    }
-    // P(END) = 1 / (1 + Σ_{a ≠ END} exp(l_a − l_END)), in f64 and without overflow.
-    let others: f64 = logits
-        .iter()
-        .zip(&rest)
-        .filter(|(_, &m)| m > 0.5)
-        .map(|(&l, _)| (l as f64 - logits[end] as f64).min(700.0).exp())
-        .sum();
-    if 1.0 / (1.0 + others) > threshold as f64 {
-        end
-    } else {
-        sample_row(logits, &rest, u, false).0
-    }
+    sample_row(logits, mask, u, false).0
 }
 
 #[cfg(test)]
@@ -209,12 +212,12 @@ mod tests {
         let likely = [0.1f32.ln(), 0.6f32.ln(), 0.3f32.ln(), 50.0];
         assert!(draws
             .iter()
-            .all(|&u| decide_end_row(&likely, &mask, u, 1, 0.5) == 1));
+            .all(|&u| decide_end_row(&likely, &mut mask.clone(), u, 1, 0.5) == 1));
         // P = [0.1, 0.4, 0.5]: never END; NOOP and action 2 as 1 : 5, as renormalised.
         let unlikely = [0.1f32.ln(), 0.4f32.ln(), 0.5f32.ln(), 50.0];
         let chosen: Vec<usize> = draws
             .iter()
-            .map(|&u| decide_end_row(&unlikely, &mask, u, 1, 0.5))
+            .map(|&u| decide_end_row(&unlikely, &mut mask.clone(), u, 1, 0.5))
             .collect();
         assert!(!chosen.contains(&1) && !chosen.contains(&3));
         let noops = chosen.iter().filter(|&&a| a == 0).count();
@@ -225,17 +228,17 @@ mod tests {
         // The threshold is the rule's: 0.7 refuses the P(END) = 0.6 row.
         assert!(draws
             .iter()
-            .all(|&u| decide_end_row(&likely, &mask, u, 1, 0.7) != 1));
+            .all(|&u| decide_end_row(&likely, &mut mask.clone(), u, 1, 0.7) != 1));
         // END illegal: the plain draw. END alone legal: END.
         let no_end = [1.0, 0.0, 1.0, 0.0];
         for &u in &draws {
             assert_eq!(
-                decide_end_row(&likely, &no_end, u, 1, 0.5),
+                decide_end_row(&likely, &mut no_end.clone(), u, 1, 0.5),
                 sample_row(&likely, &no_end, u, false).0
             );
         }
         assert_eq!(
-            decide_end_row(&unlikely, &[0.0, 1.0, 0.0, 0.0], 0.3, 1, 0.5),
+            decide_end_row(&unlikely, &mut [0.0, 1.0, 0.0, 0.0], 0.3, 1, 0.5),
             1
         );
     }

@@ -1,7 +1,7 @@
 //! Trained networks as [`Policy`]s: load a policy file, a checkpoint or a run directory,
 //! then seat the network anywhere a built-in bot can sit (`yokai eval`, Python, `play`).
 
-use crate::config::{EncoderKind, MemoryKind, TrainConfig};
+use crate::config::{ActConfig, EncoderKind, MemoryKind, TrainConfig};
 use crate::distribution::{decide_end_row, sample_row};
 use crate::file::Container;
 use crate::network::{
@@ -151,18 +151,16 @@ impl TrainedPolicy {
     pub fn end_threshold(&self) -> Option<f32> {
         self.end_threshold
     }
-    /// Play with another END rule than the file's (`yokai eval --end-threshold`); a
+    /// Play with another END rule than the file's (`yokai eval --end`, Python's `end=`); a
     /// threshold outside (0, 1) is refused.
-    pub fn set_end_threshold(&mut self, threshold: Option<f32>) -> Result<(), TrainError> {
-        if let Some(t) = threshold {
-            if !(t > 0.0 && t < 1.0) {
-                return Err(TrainError::Mismatch {
-                    path: self.path.display().to_string(),
-                    message: format!("an END threshold must lie in (0, 1), not {t}"),
-                });
-            }
-        }
-        self.end_threshold = threshold;
+    pub fn set_end_threshold(&mut self, threshold: Option<f64>) -> Result<(), TrainError> {
+        self.end_threshold = threshold
+            .map(ActConfig::end_threshold_from)
+            .transpose()
+            .map_err(|why| TrainError::Mismatch {
+                path: self.path.display().to_string(),
+                message: format!("act.end_threshold {why}"),
+            })?;
         Ok(())
     }
 
@@ -355,7 +353,7 @@ impl<E: Encoder, M: Recurrent> Policy for NetworkPolicy<E, M> {
         view.write_legal_mask(&mut self.mask);
         let u = crate::distribution::unit_draw(&mut self.rng);
         let a = match self.end_threshold {
-            Some(t) => decide_end_row(&logits, &self.mask, u, self.end, t),
+            Some(t) => decide_end_row(&logits, &mut self.mask, u, self.end, t),
             None => sample_row(&logits, &self.mask, u, false).0,
         };
         view.config()
