@@ -74,15 +74,16 @@ pub fn owned<'py, T: Element>(
     Ok(PyArrayDyn::from_owned_array(py, array))
 }
 
-/// Integer actions from any array-like, as `u32`, with their shape. Refuses floats, bools
-/// and negative or too-large values with a message that says which.
-pub fn actions(actions: &Bound<'_, PyAny>) -> PyResult<(Vec<u32>, Vec<usize>)> {
+/// Integer actions from any array-like, as `u32`, and which of `shapes` they have. Refuses
+/// floats and bools (TypeError), then any other shape (ValueError), then negative or
+/// too-large values (IllegalActionError), with a message that says which.
+pub fn actions(actions: &Bound<'_, PyAny>, shapes: &[&[usize]]) -> PyResult<(Vec<u32>, usize)> {
     // Fast paths for the dtypes NumPy and PyTorch hand over most often.
     if let Ok(a) = actions.extract::<PyReadonlyArrayDyn<'_, i64>>() {
-        return convert(a);
+        return convert(a, shapes);
     }
     if let Ok(a) = actions.extract::<PyReadonlyArrayDyn<'_, i32>>() {
-        return convert(a);
+        return convert(a, shapes);
     }
     let py = actions.py();
     let array = py.import("numpy")?.call_method1("asarray", (actions,))?;
@@ -95,17 +96,34 @@ pub fn actions(actions: &Bound<'_, PyAny>) -> PyResult<(Vec<u32>, Vec<usize>)> {
     }
     if kind == "u" {
         let array = array.call_method1("astype", ("uint64",))?;
-        return convert(array.extract::<PyReadonlyArrayDyn<'_, u64>>()?);
+        return convert(array.extract::<PyReadonlyArrayDyn<'_, u64>>()?, shapes);
     }
     let array = array.call_method1("astype", ("int64",))?;
-    convert(array.extract::<PyReadonlyArrayDyn<'_, i64>>()?)
+    convert(array.extract::<PyReadonlyArrayDyn<'_, i64>>()?, shapes)
 }
 
-fn convert<T>(array: PyReadonlyArrayDyn<'_, T>) -> PyResult<(Vec<u32>, Vec<usize>)>
+fn convert<T>(array: PyReadonlyArrayDyn<'_, T>, shapes: &[&[usize]]) -> PyResult<(Vec<u32>, usize)>
 where
     T: Element + Copy + TryInto<u32> + std::fmt::Display,
 {
-    let shape = array.shape().to_vec();
+    let shape = array.shape();
+    let Some(which) = shapes.iter().position(|s| *s == shape) else {
+        let tuple = |s: &[usize]| match s {
+            [n] => format!("({n},)"),
+            _ => format!(
+                "({})",
+                s.iter()
+                    .map(|d| d.to_string())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        };
+        let allowed: Vec<String> = shapes.iter().map(|s| tuple(s)).collect();
+        return Err(PyValueError::new_err(format!(
+            "actions must have shape {}, got {shape:?}",
+            allowed.join(" or ")
+        )));
+    };
     let mut out = Vec::with_capacity(array.len());
     for &a in array.as_array().iter() {
         match a.try_into() {
@@ -117,5 +135,5 @@ where
             }
         }
     }
-    Ok((out, shape))
+    Ok((out, which))
 }

@@ -79,22 +79,11 @@ pub fn seat_arg(
 ) -> pyo3::PyResult<yokai_engine::Seat> {
     use pyo3::types::PyAnyMethods;
     let index = int_index(seat, "a seat is an int")?;
+    // Python ints may be huge or negative: anything outside 0..players is named as given.
     match index.extract::<i64>() {
-        Ok(s) => self::seat(s, players),
-        Err(_) => Err(PyValueError::new_err(format!(
+        Ok(s) if (0..players as i64).contains(&s) => Ok(yokai_engine::Seat(s as u8)),
+        _ => Err(PyValueError::new_err(format!(
             "there is no seat {index} in a {players}-player game"
         ))),
-    }
-}
-
-/// Seat `seat` of a `players`-player game, or a ValueError naming it (Python ints may be
-/// negative or huge, so the check is on `i64`).
-pub fn seat(seat: i64, players: usize) -> pyo3::PyResult<yokai_engine::Seat> {
-    if (0..players as i64).contains(&seat) {
-        Ok(yokai_engine::Seat(seat as u8))
-    } else {
-        Err(PyValueError::new_err(format!(
-            "there is no seat {seat} in a {players}-player game"
-        )))
     }
 }

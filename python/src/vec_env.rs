@@ -205,19 +205,15 @@ impl PyVecEnv {
         slf: Bound<'py, Self>,
         actions: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyDict>> {
-        let (actions, shape) = arrays::actions(actions)?;
+        let (n, p) = {
+            let this = slf.borrow();
+            (this.options.num_envs, this.config.players())
+        };
+        // Shape [N]: the acting seats' actions; [N, P]: one per seat.
+        let (actions, which) = arrays::actions(actions, &[&[n], &[n, p]])?;
+        let joint = which == 1;
         {
             let mut this = slf.borrow_mut();
-            let (n, p) = (this.options.num_envs, this.config.players());
-            let joint = if shape == [n] {
-                false
-            } else if shape == [n, p] {
-                true
-            } else {
-                return Err(PyValueError::new_err(format!(
-                    "actions must have shape ({n},) or ({n}, {p}), got {shape:?}"
-                )));
-            };
             let inner = &mut this.inner;
             let py = slf.py();
             py.detach(|| {

@@ -65,13 +65,15 @@ def test_any_object_as_an_action_plays_it_or_is_refused_with_the_game_unchanged(
         assert not _is_index(action) and not isinstance(action, str)
         assert env.to_replay() == before
         return
-    # Accepted: a legal index, or the name of a legal action.
+    # Accepted: a legal index, or the name of a legal action; either way that action is the
+    # one played, and the game moved one step.
+    played = env.history[-1]
+    assert played in legal
     if _is_index(action):
-        assert int(action) in legal
+        assert int(action) == played
     else:
-        assert isinstance(action, str) and env.history[-1] in legal
-        assert env.action_name(env.history[-1]) == action.strip() or action != env.action_name(env.history[-1])
-    assert env.steps == len(env.history)
+        assert isinstance(action, str) and env.action_index(action) == played
+    assert env.steps == len(env.history) == len(yokai.Env.from_replay(before).history) + 1
 
 
 @FUZZ
@@ -114,21 +116,40 @@ def test_any_object_as_a_seat_is_a_seat_or_a_clear_error(seat):
 @given(
     dtype=st.sampled_from([np.int64, np.int32, np.uint8, np.uint64, np.float64, np.bool_, object]),
     shape=st.sampled_from([(2,), (2, 2), (3,), (2, 3), (), (1, 2, 2)]),
-    values=st.lists(st.integers(min_value=-5, max_value=1000), min_size=8, max_size=8),
+    values=st.lists(st.one_of(st.integers(min_value=-5, max_value=1000), st.integers(min_value=0, max_value=12)),
+                    min_size=8, max_size=8),
     seed=st.integers(0, 20),
 )
 def test_any_batch_of_actions_steps_or_is_refused_and_the_batch_still_steps(dtype, shape, values, seed):
+    """Non-integer dtypes are a TypeError, a wrong shape a ValueError, an illegal action an
+    IllegalActionError, each with every game unchanged; legal actions step."""
     venv = yokai.VecEnv("9c-2p-perfect", num_envs=2, seed=seed)
-    venv.reset()
+    out = venv.reset()
+    mask, acting = out["legal_mask"].copy(), out["acting_seat"].copy()
     size = int(np.prod(shape))
     try:
         actions = np.array(values[:size], dtype=np.int64).astype(dtype).reshape(shape)
     except (ValueError, OverflowError):
         return
+    boards = [venv.render(i) for i in range(2)]
+    chosen = [int(a) for a in actions.ravel()] if shape in [(2,), (2, 2)] else []
+    if shape == (2,):
+        legal = all(0 <= a < venv.num_actions and mask[i, acting[i], a] for i, a in enumerate(chosen))
+    else:
+        legal = all(0 <= a < venv.num_actions and mask[k // 2, k % 2, a] for k, a in enumerate(chosen))
     try:
         venv.step(actions)
-    except (yokai.IllegalActionError, TypeError, ValueError):
-        pass
+    except TypeError as e:
+        assert dtype in (np.float64, np.bool_, object), e
+    except yokai.IllegalActionError as e:
+        assert shape in [(2,), (2, 2)] and dtype not in (np.float64, np.bool_, object) and not legal, e
+    except ValueError as e:
+        assert "shape" in str(e) and shape not in [(2,), (2, 2)], e
+    else:
+        assert dtype not in (np.float64, np.bool_, object) and legal, (actions, chosen)
+        boards = None
+    if boards is not None:
+        assert [venv.render(i) for i in range(2)] == boards
     # Refused or not, the batch goes on with legal actions.
     out = venv.step(venv.sample_actions(seed))
     assert out["obs"].shape[0] == 2
