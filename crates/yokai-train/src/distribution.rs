@@ -138,6 +138,23 @@ mod tests {
         Tensor::from_data(TensorData::new(v, shape), &Device::flex())
     }
 
+    /// The rollout gives rows with one legal action zero logits instead of running the
+    /// actor on them: that is only sound if such a row's draw does not depend on its logits.
+    #[test]
+    fn a_single_legal_action_is_drawn_with_log_prob_and_entropy_zero_whatever_its_logit() {
+        let mut mask = vec![0f32; 7];
+        mask[4] = 1.0;
+        for logit in [0.0f32, -31.5, 2.25, 1e4] {
+            let mut logits: Vec<f32> = (0..7).map(|i| i as f32 * 3.0 - 9.0).collect();
+            logits[4] = logit;
+            for u in [0.0, 0.5, 0.999_999] {
+                for greedy in [false, true] {
+                    assert_eq!(sample_row(&logits, &mask, u, greedy), (4, 0.0, 0.0));
+                }
+            }
+        }
+    }
+
     #[test]
     fn binary_entropy_is_the_entropy_of_one_action_against_the_rest() {
         // p(action 1) = 1/4, 3/4 and 1 (the other actions illegal or impossible).

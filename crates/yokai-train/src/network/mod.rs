@@ -293,9 +293,16 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
     /// (0 where an episode starts at this step, which zeroes that row's state first).
     /// Returns the outputs and the new states.
     pub fn step(&self, obs: Tensor<2>, h: Tensor<2>, keep: Tensor<2>) -> (Output, Tensor<2>) {
-        let gx = self.input_projection(obs.clone());
-        let h = self.gru.step(gx, h * keep);
+        let h = self.recur(obs.clone(), h, keep);
         (self.heads(obs, h.clone()), h)
+    }
+
+    /// The memory's step alone: the new states `[B, H]` from observations `[B, L]`, states
+    /// and `keep` as in [`ActorCritic::step`], without the heads, for callers that need the
+    /// actor on some rows only (a waiting seat's only action is NOOP).
+    pub fn recur(&self, obs: Tensor<2>, h: Tensor<2>, keep: Tensor<2>) -> Tensor<2> {
+        let gx = self.input_projection(obs);
+        self.gru.step(gx, h * keep)
     }
 
     /// Action logits `[rows, N_a]` from the rows' observations `[rows, L]` (read by the

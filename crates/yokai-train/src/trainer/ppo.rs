@@ -3,7 +3,7 @@
 //! losses, the entropy bonus, the global gradient-norm clip and the Adam step.
 
 use super::rollout::Rollout;
-use super::{tensor1, tensor2, Trainer};
+use super::{rows_tensor, tensor1, tensor2, Trainer};
 use crate::config::EndForm;
 use crate::distribution::{binary_entropy, chosen_log_prob, entropy, masked_log_softmax};
 use crate::network::{Encoder, Recurrent};
@@ -176,7 +176,7 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         let (policy_loss, ent, end_bonus, replay_error) = if n == 0 {
             (zero.clone(), zero.clone(), zero, 0.0)
         } else {
-            let idx = Tensor::<1, Int>::from_data(TensorData::new(choosing, [n]), d);
+            let idx = rows_tensor(choosing, d);
             // The pointer head also reads the chosen rows' observations.
             let row_obs = if self.model.actor_reads_observations() {
                 obs.reshape([bm * t_len, l]).select(0, idx.clone())

@@ -2,7 +2,7 @@
 //! (observations and masks as each seat saw them, actions, log-probabilities, values,
 //! episode starts) and the GAE advantages and returns.
 
-use super::{tensor2, to_vec, TrainError, Trainer};
+use super::{rows_tensor, tensor2, to_vec, TrainError, Trainer};
 use crate::distribution::sample_row;
 use crate::gae::gae;
 use crate::network::{Encoder, Recurrent};
@@ -118,14 +118,36 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             let keep = self.keeps();
             keeps[t * rows..][..rows].copy_from_slice(&keep);
             self.step_belief_memory(o, &keep);
-            let (out, h) = net.step(
+            let h = net.recur(
                 tensor2(o.to_vec(), [rows, l], &dev),
                 tensor2(self.state.hidden.clone(), [rows, hsz], &dev),
                 tensor2(keep, [rows, 1], &dev),
             );
-            self.state.hidden = to_vec(h);
-            let logits = to_vec(out.logits);
-            values[t * rows..][..rows].copy_from_slice(&to_vec(out.values));
+            values[t * rows..][..rows].copy_from_slice(&to_vec(net.values(h.clone())));
+            self.state.hidden = to_vec(h.clone());
+            for r in 0..rows {
+                legal[t * rows + r] = m[r * na..][..na].iter().filter(|&&x| x > 0.5).count() as u32;
+            }
+            // The actor runs on the rows that choose. A row with one legal action (a waiting
+            // seat's NOOP, a forced move) gets zero logits: its only action has log-prob 0
+            // and entropy 0 whatever its logit, so the draws below are unchanged.
+            let choosing: Vec<usize> = (0..rows).filter(|&r| legal[t * rows + r] > 1).collect();
+            let mut logits = vec![0f32; rows * na];
+            if !choosing.is_empty() {
+                let chosen_obs = choosing
+                    .iter()
+                    .flat_map(|&r| &o[r * l..][..l])
+                    .copied()
+                    .collect();
+                let idx = rows_tensor(choosing.iter().map(|&r| r as i64).collect(), &dev);
+                let chosen = to_vec(net.policy_logits(
+                    tensor2(chosen_obs, [choosing.len(), l], &dev),
+                    h.select(0, idx),
+                ));
+                for (j, &r) in choosing.iter().enumerate() {
+                    logits[r * na..][..na].copy_from_slice(&chosen[j * na..][..na]);
+                }
+            }
             let acting = self.env.acting_seats().to_vec();
             // Learning reads the belief targets of the rows that choose, which are the
             // acting seats' rows: the waiting seats' are left at 0.
@@ -148,7 +170,6 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
                 let (a, lp, h) = sample_row(&logits[r * na..][..na], &m[r * na..][..na], u, false);
                 actions[t * rows + r] = a;
                 logps[t * rows + r] = lp;
-                legal[t * rows + r] = m[r * na..][..na].iter().filter(|&&x| x > 0.5).count() as u32;
                 if acting[r / p] as usize == r % p {
                     ent_sum += h as f64;
                     ent_rows += 1;
@@ -215,12 +236,12 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             let mut last_obs = vec![0f32; rows * l];
             let mut last_masks = vec![0f32; rows * na];
             self.view(&mut last_obs, &mut last_masks);
-            let (last, _) = net.step(
+            let last = net.recur(
                 tensor2(last_obs, [rows, l], &dev),
                 tensor2(self.state.hidden.clone(), [rows, hsz], &dev),
                 tensor2(self.keeps(), [rows, 1], &dev),
             );
-            let last_values = to_vec(last.values);
+            let last_values = to_vec(net.values(last));
             let (adv, returns) = gae(
                 &rewards,
                 &values,
