@@ -25,6 +25,7 @@ const PRESETS: &[(&str, &str)] = presets!(
     "obl-quick",
     "obl-9c-2p",
     "cpu",
+    "cpu-fast",
     "ippo-9c-2p",
     "he-9c-2p",
     "op-9c-2p",
@@ -389,6 +390,21 @@ mod tests {
         for (name, text) in PRESETS {
             TrainConfig::from_toml_str(text, name).unwrap_or_else(|e| panic!("{name}: {e}"));
         }
+    }
+
+    /// `cpu-fast` says it is `cpu` at width 64 with one epoch; nothing else may drift.
+    #[test]
+    fn cpu_fast_is_the_cpu_preset_at_width_64_with_one_epoch() {
+        let preset = |name: &str| {
+            let (_, text) = PRESETS.iter().find(|(n, _)| *n == name).unwrap();
+            TrainConfig::from_toml_str(text, name).unwrap()
+        };
+        let (cpu, mut fast) = (preset("cpu"), preset("cpu-fast"));
+        assert_eq!((fast.network.hidden, fast.ppo.epochs), (64, 1));
+        assert_ne!(cpu, fast);
+        fast.network.hidden = cpu.network.hidden;
+        fast.ppo.epochs = cpu.ppo.epochs;
+        assert_eq!(cpu, fast);
     }
 
     #[test]

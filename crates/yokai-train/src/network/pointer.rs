@@ -171,9 +171,10 @@ impl PointerHead {
     ///
     /// Computed as q_y · e_x + Σ_{y'} (q_y · k_{y'}) near[y', x] − (q_y · k_y) near[y, x]:
     /// the card pairs' scores `[B, Y, Y]` times `near`, instead of building every cell's
-    /// key `[B, g², WIDTH]` first. The same sum for a third of the arithmetic and a
-    /// fraction of the memory; at 512 rows those keys took 5 MB per tensor, and the
-    /// learning step slowed down more than its arithmetic as they left the cache.
+    /// key `[B, g², WIDTH]` first: the same sum for two thirds of the multiply-adds, and
+    /// without those tensors (5 MB each for a minibatch's 512 choosing rows on 9c) and
+    /// their gradients. With the board's cheaper layout this made the `cpu` preset's
+    /// updates 11 % faster (docs/training.md, "Speed").
     fn move_scores(&self, cards: Tensor<3>, near: Tensor<3>) -> Tensor<3> {
         let [b, y, cells] = near.dims();
         let q = self.move_query.forward(cards.clone());
