@@ -43,45 +43,48 @@ impl Board {
         }
     }
 
-    /// Where the cards lie, from their node features `[B, Y, F]`: `on[b, y, x]` is 1 when
-    /// card y is on cell x, and `near[b, y, x]` is 1 when it lies on a 4-neighbour of cell x
-    /// (both `[B, Y, g²]`).
+    /// Each card's row and column `[B, Y, 1]`, whole numbers read back from the scaled
+    /// position channels of the cards' node features `[B, Y, F]`. [`Board::near`] and
+    /// [`Board::card_adjacency`] both start from them, so a head that needs both reads the
+    /// positions once.
+    pub fn positions(&self, card_x: Tensor<3>) -> Positions {
+        let scale = (self.grid - 1) as f32;
+        Positions {
+            rows: (card_x.clone().narrow(2, self.row, 1) * scale).round(),
+            cols: (card_x.narrow(2, self.col, 1) * scale).round(),
+        }
+    }
+
+    /// `[B, Y, g²]`: 1 where card y lies on a 4-neighbour of cell x.
     ///
-    /// Both come from the Manhattan distance d between the card's cell and cell x (on: d = 0,
-    /// near: d = 1), a few elementwise ops. Why not `on` times the cells' adjacency matrix:
+    /// From the Manhattan distance d between the card's cell and cell x (d = 1), a few
+    /// elementwise ops. Why not the cards' one-hot cells times the cells' adjacency matrix:
     /// that product costs Y·g⁴ multiply-adds per row (59k on 9c, as much as the GRU's input
     /// map) for a result that is mostly zeros.
-    pub fn layout(&self, card_x: Tensor<3>) -> (Tensor<3>, Tensor<3>) {
+    pub fn near(&self, at: &Positions) -> Tensor<3> {
+        is_one(self.cell_distance(at))
+    }
+
+    /// `[B, Y, g²]`: the Manhattan distance from each card's cell to every cell.
+    fn cell_distance(&self, at: &Positions) -> Tensor<3> {
         let g = self.grid;
-        let [b, y, _] = card_x.dims();
+        let [b, y, _] = at.rows.dims();
         let cells = g * g;
-        let device = card_x.device();
-        let (r, c) = self.row_col(card_x);
+        let device = at.rows.device();
         let cell_rows = index_row(cells, |x| (x / g) as f32, &device).expand([b, y, cells]);
         let cell_cols = index_row(cells, |x| (x % g) as f32, &device).expand([b, y, cells]);
-        let d = (r.expand([b, y, cells]) - cell_rows).abs()
-            + (c.expand([b, y, cells]) - cell_cols).abs();
-        (is_zero(d.clone()), is_one(d))
+        (at.rows.clone().expand([b, y, cells]) - cell_rows).abs()
+            + (at.cols.clone().expand([b, y, cells]) - cell_cols).abs()
     }
 
     /// `[B, Y, Y]`: 1 where two cards lie on 4-neighbouring cells (the engine's adjacency),
     /// from the Manhattan distance between every pair of cards.
-    pub fn card_adjacency(&self, card_x: Tensor<3>) -> Tensor<3> {
-        let [b, y, _] = card_x.dims();
-        let (r, c) = self.row_col(card_x);
-        let across = |v: Tensor<3>| {
-            (v.clone().expand([b, y, y]) - v.swap_dims(1, 2).expand([b, y, y])).abs()
+    pub fn card_adjacency(&self, at: &Positions) -> Tensor<3> {
+        let [b, y, _] = at.rows.dims();
+        let across = |v: &Tensor<3>| {
+            (v.clone().expand([b, y, y]) - v.clone().swap_dims(1, 2).expand([b, y, y])).abs()
         };
-        is_one(across(r) + across(c))
-    }
-
-    /// Each card's row and column `[B, Y, 1]`, whole numbers read back from the scaled
-    /// position channels.
-    fn row_col(&self, card_x: Tensor<3>) -> (Tensor<3>, Tensor<3>) {
-        let scale = (self.grid - 1) as f32;
-        let r = (card_x.clone().narrow(2, self.row, 1) * scale).round();
-        let c = (card_x.narrow(2, self.col, 1) * scale).round();
-        (r, c)
+        is_one(across(&at.rows) + across(&at.cols))
     }
 
     /// `[B, H, Y]`: 1 where hint slot h is placed on card y, from the hint slots' and the
@@ -100,6 +103,12 @@ impl Board {
             (-(hint_id.expand([b, h, y]) - card_id.expand([b, h, y])).abs() + 1.0).clamp_min(0.0);
         same * placed.expand([b, h, y])
     }
+}
+
+/// The cards' cells, as [`Board::positions`] reads them from node features.
+pub(crate) struct Positions {
+    rows: Tensor<3>,
+    cols: Tensor<3>,
 }
 
 /// `[1, 1, n]` holding `value(0), …, value(n − 1)`.
@@ -155,8 +164,9 @@ pub(crate) mod tests {
                     let x: Tensor<3> =
                         Tensor::from_data(TensorData::new(x, [1, nodes, f]), &device);
                     let cards = x.clone().narrow(1, 0, y);
-                    let (on, near) = board.layout(cards.clone());
-                    let (on, near) = (to_vec(on), to_vec(near));
+                    let at = board.positions(cards.clone());
+                    let on = to_vec(is_zero(board.cell_distance(&at)));
+                    let near = to_vec(board.near(&at));
                     for k in 0..y {
                         let cell = game.cell_of(Card(k as u8));
                         let (r, c) = (cell.row as usize, cell.col as usize);
@@ -170,11 +180,7 @@ pub(crate) mod tests {
                     }
                     let mut adjacency = vec![0f32; y * y];
                     game.write_adjacency(&mut adjacency).unwrap();
-                    assert_eq!(
-                        to_vec(board.card_adjacency(cards.clone())),
-                        adjacency,
-                        "{name}"
-                    );
+                    assert_eq!(to_vec(board.card_adjacency(&at)), adjacency, "{name}");
                     let hint_on = to_vec(board.hint_on_card(x.narrow(1, y, nh), cards));
                     for slot in 0..nh {
                         let on_card = game.hint_card(HintSlot(slot as u8));

@@ -197,7 +197,9 @@ impl GraphEncoder {
         let v = n + 1;
         let device = x.device();
         let cards = x.clone().narrow(1, 0, y);
-        let card_card = self.board.card_adjacency(cards.clone());
+        let card_card = self
+            .board
+            .card_adjacency(&self.board.positions(cards.clone()));
         let hint_card = self.board.hint_on_card(x.narrow(1, y, nh), cards);
         let ones = |rows: usize, cols: usize| Tensor::<3>::ones([b, rows, cols], &device);
         let top = Tensor::cat(

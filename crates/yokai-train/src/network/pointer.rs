@@ -128,10 +128,10 @@ impl PointerHead {
         let z_cards = z.clone().narrow(1, 0, y);
         let z_hints = z.narrow(1, y, nh);
 
-        let card_x = x.clone().narrow(1, 0, y);
-        let (_, near) = self.shape.board.layout(card_x.clone());
+        let at = self.shape.board.positions(x.clone().narrow(1, 0, y));
+        let near = self.shape.board.near(&at);
         // Card adjacency `[B, Y, Y]`, then one message-passing step.
-        let touching = self.shape.board.card_adjacency(card_x);
+        let touching = self.shape.board.card_adjacency(&at);
         let gathered = touching.matmul(z_cards.clone());
         let cards = relu(z_cards + self.message.forward(gathered));
 
@@ -166,7 +166,7 @@ impl PointerHead {
 
 impl PointerHead {
     /// MOVE y→x scores `[B, Y, g²]` from the card embeddings `[B, Y, WIDTH]` and `near`
-    /// (`Board::layout`): q_y · (e_x + Σ_{y' next to x, y' ≠ y} k_{y'}). The card itself is
+    /// (`Board::near`): q_y · (e_x + Σ_{y' next to x, y' ≠ y} k_{y'}). The card itself is
     /// left out: moved next to its old cell, it would count itself as a neighbour.
     ///
     /// Computed as q_y · e_x + Σ_{y'} (q_y · k_{y'}) near[y', x] − (q_y · k_y) near[y, x]:
@@ -288,7 +288,7 @@ mod tests {
                 let mut x = vec![0f32; nodes * f];
                 game.view(Seat(0)).write_nodes(Part::Full, &mut x).unwrap();
                 let x: Tensor<3> = Tensor::from_data(TensorData::new(x, [1, nodes, f]), &device);
-                let (_, near) = board.layout(x.narrow(1, 0, y));
+                let near = board.near(&board.positions(x.narrow(1, 0, y)));
                 let cards: Tensor<3> = Tensor::random(
                     [1, y, WIDTH],
                     burn::tensor::Distribution::Normal(0.0, 1.0),
