@@ -107,6 +107,7 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         let net = self.model.valid();
         let dev = self.infer_device.clone();
         let mut joint = vec![0u32; rows];
+        let no_choice = vec![0f32; na];
         let mut games = MetricsAccumulator::default();
         let (mut ent_sum, mut ent_rows) = (0f64, 0u64);
         for t in 0..t_len {
@@ -128,26 +129,26 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             for r in 0..rows {
                 legal[t * rows + r] = m[r * na..][..na].iter().filter(|&&x| x > 0.5).count() as u32;
             }
-            // The actor runs on the rows that choose. A row with one legal action (a waiting
-            // seat's NOOP, a forced move) gets zero logits: its only action has log-prob 0
-            // and entropy 0 whatever its logit, so the draws below are unchanged.
+            // The actor runs on the rows that choose; `chosen` holds their logits in row
+            // order. A row with one legal action (a waiting seat's NOOP, a forced move) is
+            // drawn from zero logits: its only action has log-prob 0 and entropy 0 whatever
+            // its logit, so the draws below are unchanged.
             let choosing: Vec<usize> = (0..rows).filter(|&r| legal[t * rows + r] > 1).collect();
-            let mut logits = vec![0f32; rows * na];
-            if !choosing.is_empty() {
+            let chosen = if choosing.is_empty() {
+                Vec::new()
+            } else {
                 let chosen_obs = choosing
                     .iter()
                     .flat_map(|&r| &o[r * l..][..l])
                     .copied()
                     .collect();
                 let idx = rows_tensor(choosing.iter().map(|&r| r as i64).collect(), &dev);
-                let chosen = to_vec(net.policy_logits(
+                to_vec(net.policy_logits(
                     tensor2(chosen_obs, [choosing.len(), l], &dev),
                     h.select(0, idx),
-                ));
-                for (j, &r) in choosing.iter().enumerate() {
-                    logits[r * na..][..na].copy_from_slice(&chosen[j * na..][..na]);
-                }
-            }
+                ))
+            };
+            let mut next_chosen = chosen.chunks_exact(na);
             let acting = self.env.acting_seats().to_vec();
             // Learning reads the belief targets of the rows that choose, which are the
             // acting seats' rows: the waiting seats' are left at 0.
@@ -167,7 +168,14 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             }
             for r in 0..rows {
                 let u = crate::distribution::unit_draw(rng);
-                let (a, lp, h) = sample_row(&logits[r * na..][..na], &m[r * na..][..na], u, false);
+                let logits = if legal[t * rows + r] > 1 {
+                    next_chosen
+                        .next()
+                        .expect("one row of logits per choosing row")
+                } else {
+                    &no_choice[..]
+                };
+                let (a, lp, h) = sample_row(logits, &m[r * na..][..na], u, false);
                 actions[t * rows + r] = a;
                 logps[t * rows + r] = lp;
                 if acting[r / p] as usize == r % p {
