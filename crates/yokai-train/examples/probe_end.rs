@@ -30,19 +30,19 @@ fn main() {
         let s = t.update().unwrap();
         let net = t.model().valid();
         let h = net.hidden_size();
-        let (out, _) = net.step(
+        let (logits, state) = net.step(
             Tensor::from_data(TensorData::new(obs.clone(), [n, l]), &dev),
             Tensor::zeros([n, h], &dev),
             Tensor::zeros([n, 1], &dev),
         );
         let lp = yokai_train::distribution::masked_log_softmax(
-            out.logits,
+            logits,
             Tensor::from_data(TensorData::new(masks.clone(), [n, na]), &dev),
         );
         let v: Vec<f32> = lp.into_data().convert::<f32>().try_into_vec().unwrap();
         let p_end: f32 = (0..n).map(|i| v[i * na + end].exp()).sum::<f32>() / n as f32;
-        let val: Vec<f32> = out
-            .values
+        let val: Vec<f32> = net
+            .values(state)
             .into_data()
             .convert::<f32>()
             .try_into_vec()

@@ -225,17 +225,36 @@ impl TrainedPolicy {
         states: Vec<f32>,
         keep: Vec<f32>,
     ) -> (Vec<f32>, Vec<f32>) {
+        let (o, s, k) = self.batch_tensors(obs, states, keep);
+        let (logits, state) = with_net!(&self.net, m => m.step(o, s, k));
+        (
+            crate::trainer::to_vec(logits),
+            crate::trainer::to_vec(state),
+        )
+    }
+
+    /// [`TrainedPolicy::step_batch`]'s new states alone, without running the heads: for
+    /// callers that only follow the seats' memories (a partner replayed up to the present).
+    pub fn recur_batch(&self, obs: Vec<f32>, states: Vec<f32>, keep: Vec<f32>) -> Vec<f32> {
+        let (o, s, k) = self.batch_tensors(obs, states, keep);
+        crate::trainer::to_vec(with_net!(&self.net, m => m.recur(o, s, k)))
+    }
+
+    /// Observations `[rows, L]`, states `[rows, H]` and `keep` `[rows, 1]` as tensors.
+    fn batch_tensors(
+        &self,
+        obs: Vec<f32>,
+        states: Vec<f32>,
+        keep: Vec<f32>,
+    ) -> (Tensor<2>, Tensor<2>, Tensor<2>) {
         let rows = keep.len();
         let d = &self.device;
         let h = self.hidden_size();
         let l = obs.len() / rows.max(1);
-        let o = Tensor::from_data(TensorData::new(obs, [rows, l]), d);
-        let s = Tensor::from_data(TensorData::new(states, [rows, h]), d);
-        let k = Tensor::from_data(TensorData::new(keep, [rows, 1]), d);
-        let (out, state) = with_net!(&self.net, m => m.step(o, s, k));
         (
-            crate::trainer::to_vec(out.logits),
-            crate::trainer::to_vec(state),
+            Tensor::from_data(TensorData::new(obs, [rows, l]), d),
+            Tensor::from_data(TensorData::new(states, [rows, h]), d),
+            Tensor::from_data(TensorData::new(keep, [rows, 1]), d),
         )
     }
 
@@ -310,8 +329,9 @@ impl<E: Encoder, M: Recurrent> NetworkPolicy<E, M> {
         }
     }
 
-    /// Step the memory on `view` and return the logits.
-    fn step(&mut self, view: &SeatView<'_>) -> Vec<f32> {
+    /// Step the memory on `view`; returns the observation and the new state as tensors,
+    /// for `act` to run the actor on.
+    fn remember(&mut self, view: &SeatView<'_>) -> (Tensor<2>, Tensor<2>) {
         match E::encoding() {
             Encoding::Image(part, layout) => view.write_image_in(part, layout, &mut self.obs),
             Encoding::Graph(part) => view.write_nodes(part, &mut self.obs),
@@ -320,21 +340,14 @@ impl<E: Encoder, M: Recurrent> NetworkPolicy<E, M> {
         .expect("buffers sized from the policy's own game config");
         let d = &self.device;
         let h = self.hidden.len();
-        let (out, state) = self.model.step(
-            Tensor::from_data(TensorData::new(self.obs.clone(), [1, self.obs.len()]), d),
+        let obs = Tensor::from_data(TensorData::new(self.obs.clone(), [1, self.obs.len()]), d);
+        let state = self.model.recur(
+            obs.clone(),
             Tensor::from_data(TensorData::new(self.hidden.clone(), [1, h]), d),
             Tensor::ones([1, 1], d),
         );
-        self.hidden = state
-            .into_data()
-            .convert::<f32>()
-            .try_into_vec::<f32>()
-            .expect("f32");
-        out.logits
-            .into_data()
-            .convert::<f32>()
-            .try_into_vec::<f32>()
-            .expect("f32")
+        self.hidden = crate::trainer::to_vec(state.clone());
+        (obs, state)
     }
 }
 
@@ -348,7 +361,8 @@ impl<E: Encoder, M: Recurrent> Policy for NetworkPolicy<E, M> {
         self.rng = ChaCha8Rng::seed_from_u64(seed);
     }
     fn act(&mut self, view: &SeatView<'_>) -> Action {
-        let logits = self.step(view);
+        let (obs, state) = self.remember(view);
+        let logits = crate::trainer::to_vec(self.model.policy_logits(obs, state));
         self.stepped = true;
         view.write_legal_mask(&mut self.mask);
         let u = crate::distribution::unit_draw(&mut self.rng);
@@ -364,7 +378,7 @@ impl<E: Encoder, M: Recurrent> Policy for NetworkPolicy<E, M> {
         if self.stepped {
             self.stepped = false;
         } else {
-            self.step(before);
+            self.remember(before);
         }
     }
 }

@@ -503,13 +503,13 @@ fn p_end_at_start(t: &Trainer<MlpEncoder>, n: usize) -> f32 {
     }
     let dev = Device::flex();
     let net = t.model().valid();
-    let (out, _) = net.step(
+    let (logits, _) = net.step(
         Tensor::from_data(TensorData::new(obs, [n, l]), &dev),
         Tensor::zeros([n, net.hidden_size()], &dev),
         Tensor::zeros([n, 1], &dev),
     );
     let lp = yokai_train::distribution::masked_log_softmax(
-        out.logits,
+        logits,
         Tensor::from_data(TensorData::new(masks, [n, na]), &dev),
     );
     let v: Vec<f32> = lp.into_data().convert::<f32>().try_into_vec().unwrap();

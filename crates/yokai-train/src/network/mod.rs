@@ -213,14 +213,6 @@ impl Recurrent for GruCell {
     }
 }
 
-/// What one forward pass gives for a batch of rows.
-pub struct Output {
-    /// Unmasked action logits `[rows, N_a]`.
-    pub logits: Tensor<2>,
-    /// State values `[rows]`.
-    pub values: Tensor<1>,
-}
-
 /// Encoder → Linear → ReLU → memory (a GRU by default) → actor and critic heads.
 ///
 /// The actor is one of two heads (`network.head`): `actor`, a dense layer over the state
@@ -281,20 +273,13 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
         self.gru.project(x)
     }
 
-    fn heads(&self, obs: Tensor<2>, h: Tensor<2>) -> Output {
-        let values = self.values(h.clone());
-        Output {
-            logits: self.policy_logits(obs, h),
-            values,
-        }
-    }
-
     /// One step for `B` rows: observations `[B, L]`, states `[B, H]`, and `keep` `[B, 1]`
     /// (0 where an episode starts at this step, which zeroes that row's state first).
-    /// Returns the outputs and the new states.
-    pub fn step(&self, obs: Tensor<2>, h: Tensor<2>, keep: Tensor<2>) -> (Output, Tensor<2>) {
+    /// Returns the unmasked action logits `[B, N_a]` and the new states. (Values come from
+    /// [`ActorCritic::values`] of the states, where a caller needs them.)
+    pub fn step(&self, obs: Tensor<2>, h: Tensor<2>, keep: Tensor<2>) -> (Tensor<2>, Tensor<2>) {
         let h = self.recur(obs.clone(), h, keep);
-        (self.heads(obs, h.clone()), h)
+        (self.policy_logits(obs, h.clone()), h)
     }
 
     /// The memory's step alone: the new states `[B, H]` from observations `[B, L]`, states

@@ -114,14 +114,11 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             false,
             &mut |o, h, k| {
                 let rows = k.len();
-                to_vec(
-                    net.step(
-                        tensor2(o, [rows, l], dev),
-                        tensor2(h, [rows, hsz], dev),
-                        tensor2(k, [rows, 1], dev),
-                    )
-                    .1,
-                )
+                to_vec(net.recur(
+                    tensor2(o, [rows, l], dev),
+                    tensor2(h, [rows, hsz], dev),
+                    tensor2(k, [rows, 1], dev),
+                ))
             },
         );
         // Bootstrap from the value where the seat acts again.
@@ -274,7 +271,7 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             &mut states,
             policy.encoding(),
             true,
-            &mut |o, h, k| policy.step_batch(o, h, k).1,
+            &mut |o, h, k| policy.recur_batch(o, h, k),
         );
         Ok(states)
     }
