@@ -33,7 +33,7 @@ for attempt in 1 2 3; do
         break
     fi
     echo "pip install torch failed (try $attempt of 3)" >&2
-    sleep 10
+    [ "$attempt" = 3 ] || sleep 10
 done
 if [ "$torch_installed" = 0 ]; then
     echo "WARNING: PyTorch could not be downloaded from PyPI; the PyTorch example's test is skipped" >&2
