@@ -5,6 +5,11 @@
 # CI runs exactly this (.ci/run).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+# A clean run needs about N GB of disk (build outputs and the venvs); CI once ran out of it,
+# so the log says how much there was and how much the run took.
+disk_report() { echo "disk ($1): $(df -h . | awk 'NR==2 {print $4 " free of " $2}'); target $(du -sh target 2>/dev/null | cut -f1), .venv $(du -sh .venv 2>/dev/null | cut -f1)" >&2; }
+disk_report start
+trap 'disk_report end' EXIT
 cargo fmt --all -- --check
 cargo clippy --workspace --all-targets --release -- -D warnings
 # The GPU build (burn's Vulkan runtime) is compiled, not run: CI has no GPU, and this keeps
@@ -28,7 +33,7 @@ fi
 # still fails, the suite goes on and test_examples.py says it was skipped for want of torch.
 torch_installed=0
 for attempt in 1 2 3; do
-    if .venv/bin/python -m pip install --quiet --retries 10 --resume-retries 20 torch; then
+    if .venv/bin/python -m pip install --quiet --no-cache-dir --retries 10 --resume-retries 20 torch; then
         torch_installed=1
         break
     fi
