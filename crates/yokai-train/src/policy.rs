@@ -214,27 +214,11 @@ impl TrainedPolicy {
         with_net!(&self.net, m => m.hidden_size())
     }
 
-    /// One step of the network for `rows` seats at once, as in training: observations
-    /// `[rows × L]` (in [`TrainedPolicy::encoding`]), states `[rows × H]`, `keep` `[rows]`
-    /// (0 zeroes a row's state first: an episode starts). Returns the action logits
-    /// `[rows × N_a]` and the new states. For callers that drive many seats of many games
-    /// (Off-Belief Learning's previous level).
-    pub fn step_batch(
-        &self,
-        obs: Vec<f32>,
-        states: Vec<f32>,
-        keep: Vec<f32>,
-    ) -> (Vec<f32>, Vec<f32>) {
-        let (o, s, k) = self.batch_tensors(obs, states, keep);
-        let (logits, state) = with_net!(&self.net, m => m.step(o, s, k));
-        (
-            crate::trainer::to_vec(logits),
-            crate::trainer::to_vec(state),
-        )
-    }
-
-    /// [`TrainedPolicy::step_batch`]'s new states alone, without running the heads: for
-    /// callers that only follow the seats' memories (a partner replayed up to the present).
+    /// One step of the network's memory for `rows` seats at once, as in training:
+    /// observations `[rows × L]` (in [`TrainedPolicy::encoding`]), states `[rows × H]`,
+    /// `keep` `[rows]` (0 zeroes a row's state first: an episode starts). Returns the new
+    /// states, without running the heads: for callers that only follow the seats' memories
+    /// (a partner replayed up to the present).
     pub fn recur_batch(&self, obs: Vec<f32>, states: Vec<f32>, keep: Vec<f32>) -> Vec<f32> {
         let (o, s, k) = self.batch_tensors(obs, states, keep);
         crate::trainer::to_vec(with_net!(&self.net, m => m.recur(o, s, k)))
@@ -258,14 +242,12 @@ impl TrainedPolicy {
         )
     }
 
-    /// [`TrainedPolicy::step_batch`] for the seats `rows` (a game and a seat each), whose
-    /// observations it writes itself.
-    pub fn step_seats(
-        &self,
-        rows: &[(&Game, Seat)],
-        states: Vec<f32>,
-        keep: Vec<f32>,
-    ) -> (Vec<f32>, Vec<f32>) {
+    /// One step of the network for the seats `rows` (a game and a seat each, whose
+    /// observations it writes itself), states `[rows × H]` and `keep` `[rows]` as in
+    /// [`TrainedPolicy::recur_batch`]: every seat's memory steps, and the actor runs for the
+    /// seats whose turn it is (the others only wait). For callers that drive many seats of
+    /// many games (Off-Belief Learning's previous level, the probe recorder).
+    pub fn step_seats(&self, rows: &[(&Game, Seat)], states: Vec<f32>, keep: Vec<f32>) -> SeatStep {
         let encoding = self.encoding();
         let l: usize = encoding.shape(&self.game).iter().product();
         let mut obs = vec![0f32; rows.len() * l];
@@ -274,12 +256,46 @@ impl TrainedPolicy {
                 .write(game, seat, &mut obs[k * l..][..l])
                 .expect("buffers sized from the policy's own game config");
         }
-        self.step_batch(obs, states, keep)
+        let acting: Vec<usize> = (0..rows.len())
+            .filter(|&k| rows[k].0.current_seat() == rows[k].1)
+            .collect();
+        let (o, s, k) = self.batch_tensors(obs.clone(), states, keep);
+        let (logits, states) = with_net!(&self.net, m => {
+            let h = m.recur(o, s, k);
+            (m.logits_of_rows(&obs, h.clone(), &acting), crate::trainer::to_vec(h))
+        });
+        SeatStep {
+            states,
+            logits,
+            acting,
+            num_actions: self.game.num_actions(),
+        }
     }
 
     /// A fresh seat-holder; `seed` drives its action sampling.
     pub fn build(&self, seed: u64) -> Box<dyn Policy> {
         with_net!(&self.net, m => Box::new(NetworkPolicy::new((**m).clone(), self, seed)))
+    }
+}
+
+/// What [`TrainedPolicy::step_seats`] returns: every seat's new memory state, and the action
+/// logits of the seats whose turn it is.
+#[derive(Clone, Debug)]
+pub struct SeatStep {
+    /// The new states `[rows × H]`, in the order of the rows.
+    pub states: Vec<f32>,
+    /// The acting rows' logits `[acting × N_a]`.
+    logits: Vec<f32>,
+    /// The rows whose seat acts, ascending.
+    acting: Vec<usize>,
+    num_actions: usize,
+}
+
+impl SeatStep {
+    /// Row `k`'s action logits (unmasked), if its seat is the one to act.
+    pub fn logits(&self, k: usize) -> Option<&[f32]> {
+        let i = self.acting.binary_search(&k).ok()?;
+        Some(&self.logits[i * self.num_actions..][..self.num_actions])
     }
 }
 

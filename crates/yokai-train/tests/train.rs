@@ -740,3 +740,77 @@ fn the_belief_loss_learns_to_name_the_colours_a_seat_has_seen() {
         "the colour layer, WIDTH × C + C"
     );
 }
+
+/// `step_seats` steps every seat's memory exactly as `recur_batch` does and runs the actor
+/// for the seats whose turn it is alone, each row's logits what it would get in a batch of
+/// its own (pointer head, whose actor reads the observation too).
+#[test]
+fn step_seats_steps_every_memory_and_gives_logits_to_the_acting_seats_only() {
+    use yokai_engine::{Game, Seat};
+    let tmp = tempdir("seats");
+    let dir = tmp.path().join("seed-0");
+    let mut config = tiny(SymmetrySet::None, 1);
+    config.network.head = yokai_train::ActionHead::Pointer;
+    let request = RunRequest {
+        config: &config,
+        seed: 0,
+        dir: &dir,
+        resume: false,
+        max_updates: None,
+        backend: yokai_train::Backend::Cpu,
+    };
+    train_run(&request, &mut |_, _| {}).unwrap();
+    let policy = TrainedPolicy::load(&dir).unwrap();
+    let game = *policy.game();
+    // Games at different points of play (legal actions other than END, picked in turn).
+    let games: Vec<Game> = (0..6u64)
+        .map(|g| {
+            let mut live = Game::new(game, g);
+            for step in 0..g as usize * 3 {
+                let mut legal = live.legal_actions(live.current_seat());
+                legal.retain(|&a| a != yokai_engine::Action::End);
+                live.apply(legal[step * 7 % legal.len()]).unwrap();
+            }
+            assert!(!live.is_over());
+            live
+        })
+        .collect();
+    let rows: Vec<(&Game, Seat)> = games
+        .iter()
+        .flat_map(|g| (0..2u8).map(move |s| (g, Seat(s))))
+        .collect();
+    let (h, n) = (policy.hidden_size(), rows.len());
+    let states: Vec<f32> = (0..n * h).map(|i| (i % 11) as f32 / 5.0 - 1.0).collect();
+    let keep: Vec<f32> = (0..n).map(|k| (k % 3 != 0) as u8 as f32).collect();
+    let stepped = policy.step_seats(&rows, states.clone(), keep.clone());
+
+    let encoding = policy.encoding();
+    let l: usize = encoding.shape(&game).iter().product();
+    let mut obs = vec![0f32; n * l];
+    for (k, &(g, seat)) in rows.iter().enumerate() {
+        encoding.write(g, seat, &mut obs[k * l..][..l]).unwrap();
+    }
+    assert_eq!(
+        stepped.states,
+        policy.recur_batch(obs, states.clone(), keep.clone())
+    );
+    let mut acting = 0;
+    for (k, &(g, seat)) in rows.iter().enumerate() {
+        let Some(logits) = stepped.logits(k) else {
+            assert_ne!(g.current_seat(), seat, "row {k} acts but has no logits");
+            continue;
+        };
+        assert_eq!(g.current_seat(), seat, "row {k} waits but has logits");
+        acting += 1;
+        let alone = policy.step_seats(&rows[k..=k], states[k * h..][..h].to_vec(), vec![keep[k]]);
+        let own = alone.logits(0).unwrap();
+        assert_eq!(logits.len(), game.num_actions());
+        for (a, (x, y)) in logits.iter().zip(own).enumerate() {
+            assert!(
+                (x - y).abs() < 1e-4,
+                "row {k} action {a}: {x} in the batch, {y} alone"
+            );
+        }
+    }
+    assert_eq!(acting, games.len(), "one acting seat per game");
+}

@@ -301,6 +301,25 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
         }
     }
 
+    /// Action logits `[rows.len(), N_a]`, in the order of `rows`, for some rows of a step:
+    /// `obs` holds every row's observation (`[B, L]`, flat) and `states` every row's state
+    /// after the step (`[B, H]`). The actor runs on those rows alone: in a step most rows
+    /// have one legal action (a waiting seat's NOOP), and the pointer head costs as much as
+    /// the rest of the network. Empty when `rows` is.
+    pub fn logits_of_rows(&self, obs: &[f32], states: Tensor<2>, rows: &[usize]) -> Vec<f32> {
+        if rows.is_empty() {
+            return Vec::new();
+        }
+        let device = states.device();
+        let l = obs.len() / states.dims()[0];
+        let chosen_obs = rows.iter().flat_map(|&r| &obs[r * l..][..l]).copied();
+        let idx = rows.iter().map(|&r| r as i64).collect();
+        crate::trainer::to_vec(self.policy_logits(
+            crate::trainer::tensor2(chosen_obs.collect(), [rows.len(), l], &device),
+            states.select(0, crate::trainer::rows_tensor(idx, &device)),
+        ))
+    }
+
     /// The action logits and, where the network has a colour layer (`ppo.belief_aux`),
     /// every card's colour logits `[rows, Y, C]`.
     pub fn policy_and_colour_logits(

@@ -362,7 +362,7 @@ fn choose_by_network(
     actions: &mut [u32],
 ) {
     let game = env.config();
-    let (p, na) = (game.players(), game.num_actions());
+    let p = game.players();
     let rows: Vec<(&Game, Seat)> = (0..actions.len() * p)
         .map(|r| (env.game(r / p), Seat((r % p) as u8)))
         .collect();
@@ -370,13 +370,14 @@ fn choose_by_network(
         .iter()
         .map(|(g, _)| (g.steps() > 0) as u8 as f32)
         .collect();
-    let (logits, states) = net.step_seats(&rows, hidden.to_vec(), keep);
-    hidden.copy_from_slice(&states);
+    let stepped = net.step_seats(&rows, hidden.to_vec(), keep);
+    hidden.copy_from_slice(&stepped.states);
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     for (i, action) in actions.iter_mut().enumerate() {
         let g = env.game(i);
         let r = i * p + g.current_seat().index();
-        *action = sample_legal(g, &logits[r * na..][..na], &mut rng) as u32;
+        let logits = stepped.logits(r).expect("the acting seat's logits");
+        *action = sample_legal(g, logits, &mut rng) as u32;
     }
 }
 

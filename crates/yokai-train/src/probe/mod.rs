@@ -64,7 +64,7 @@ pub fn record(
     games: usize,
     seed: u64,
 ) -> Records {
-    let (p, y, na) = (game.players(), game.cards(), game.num_actions());
+    let (p, y) = (game.players(), game.cards());
     assert_eq!(seats.len(), p, "one policy per seat");
     // The recorded seats' memory width (the partners' may differ).
     let widths: Vec<usize> = seats
@@ -94,7 +94,7 @@ pub fn record(
         let mut step = 0u16;
         while live.iter().any(|g| !g.is_over()) {
             let open: Vec<usize> = (0..batch).filter(|&g| !live[g].is_over()).collect();
-            let mut logits = Vec::with_capacity(p);
+            let mut steps = Vec::with_capacity(p);
             for (s, policy) in seats.iter().enumerate() {
                 let h = policy.hidden_size();
                 let rows: Vec<(&Game, Seat)> =
@@ -104,7 +104,8 @@ pub fn record(
                     .flat_map(|&g| states[s][g * h..][..h].iter().copied())
                     .collect();
                 let keep = vec![(step > 0) as u8 as f32; open.len()];
-                let (lg, new) = policy.step_seats(&rows, rows_h, keep);
+                let stepped = policy.step_seats(&rows, rows_h, keep);
+                let new = &stepped.states;
                 for (k, &g) in open.iter().enumerate() {
                     states[s][g * h..][..h].copy_from_slice(&new[k * h..][..h]);
                     if recorded[s] {
@@ -117,11 +118,13 @@ pub fn record(
                         out.episodes.push((first + g) as u32);
                     }
                 }
-                logits.push(lg);
+                steps.push(stepped);
             }
             for (k, &g) in open.iter().enumerate() {
                 let actor = live[g].current_seat();
-                let lg = &logits[actor.index()][k * na..][..na];
+                let lg = steps[actor.index()]
+                    .logits(k)
+                    .expect("the acting seat's logits");
                 let a = sample_legal(&live[g], lg, &mut rng);
                 live[g]
                     .apply_index(a)

@@ -2,7 +2,7 @@
 //! (observations and masks as each seat saw them, actions, log-probabilities, values,
 //! episode starts) and the GAE advantages and returns.
 
-use super::{rows_tensor, tensor2, to_vec, TrainError, Trainer};
+use super::{tensor2, to_vec, TrainError, Trainer};
 use crate::distribution::sample_row;
 use crate::gae::gae;
 use crate::network::{Encoder, Recurrent};
@@ -134,20 +134,7 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             // drawn from zero logits: its only action has log-prob 0 and entropy 0 whatever
             // its logit, so the draws below are unchanged.
             let choosing: Vec<usize> = (0..rows).filter(|&r| legal[t * rows + r] > 1).collect();
-            let chosen = if choosing.is_empty() {
-                Vec::new()
-            } else {
-                let chosen_obs = choosing
-                    .iter()
-                    .flat_map(|&r| &o[r * l..][..l])
-                    .copied()
-                    .collect();
-                let idx = rows_tensor(choosing.iter().map(|&r| r as i64).collect(), &dev);
-                to_vec(net.policy_logits(
-                    tensor2(chosen_obs, [choosing.len(), l], &dev),
-                    h.select(0, idx),
-                ))
-            };
+            let chosen = net.logits_of_rows(o, h, &choosing);
             let mut next_chosen = chosen.chunks_exact(na);
             let acting = self.env.acting_seats().to_vec();
             // Learning reads the belief targets of the rows that choose, which are the

@@ -105,14 +105,14 @@ impl Partner<'_> {
             } => {
                 let rows: Vec<(&Game, Seat)> = seats.iter().map(|&s| (game, s)).collect();
                 let keep = vec![1.0; seats.len()];
-                let (logits, new) = policy.step_seats(&rows, std::mem::take(states), keep);
-                *states = new;
+                let stepped = policy.step_seats(&rows, std::mem::take(states), keep);
                 let k = seats
                     .iter()
                     .position(|&s| s == game.current_seat())
                     .expect("the continuation asks only for partners' actions");
-                let na = game.config().num_actions();
-                sample_legal(game, &logits[k * na..][..na], rng)
+                let a = sample_legal(game, stepped.logits(k).expect("the acting seat"), rng);
+                *states = stepped.states;
+                a
             }
         }
     }
