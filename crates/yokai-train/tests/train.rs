@@ -128,6 +128,68 @@ fn same_seed_same_weights_and_the_value_loss_falls() {
     );
 }
 
+/// On the CPU a minibatch learns in one shard per worker thread, each with its own graph,
+/// and the shards' gradients are added: the step is the one-shard step up to float
+/// rounding, with every loss term on (pointer head, colour loss, END terms, normalised
+/// entropy), and so are the losses it reports. 3 threads cut each minibatch of 8 sequences
+/// into shards of 3, 3 and 2.
+#[test]
+fn sharded_learning_takes_the_one_shard_step() {
+    let mut config = tiny(SymmetrySet::None, 3);
+    config.network.head = yokai_train::ActionHead::Pointer;
+    config.network.pointer_pool = true;
+    config.ppo.belief_aux = 0.5;
+    config.ppo.end_lookahead = 0.5;
+    config.ppo.end_entropy_coef = 0.01;
+    config.ppo.entropy_normalized = true;
+    let run = |threads: usize| {
+        let config = config.clone();
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(move || {
+                let mut t = Trainer::<MlpEncoder>::new(config, 5).unwrap();
+                let stats: Vec<_> = (0..3).map(|_| t.update().unwrap()).collect();
+                (t.parameters(), stats)
+            })
+    };
+    let (one, one_stats) = run(1);
+    let (three, three_stats) = run(3);
+    assert_eq!(one.len(), three.len());
+    let worst = one
+        .iter()
+        .zip(&three)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0f32, f32::max);
+    assert!(worst < 1e-4, "weights differ by up to {worst}");
+    let moved = one.iter().zip(&three).filter(|(a, b)| a != b).count();
+    assert!(
+        moved > 0,
+        "3 threads did learn in shards (bit-identical weights)"
+    );
+    for (a, b) in one_stats.iter().zip(&three_stats) {
+        let pairs = [
+            ("policy", a.policy_loss, b.policy_loss),
+            ("value", a.value_loss, b.value_loss),
+            ("replay", a.replay_error, b.replay_error),
+            ("belief", a.belief_loss.unwrap(), b.belief_loss.unwrap()),
+            (
+                "accuracy",
+                a.belief_accuracy.unwrap(),
+                b.belief_accuracy.unwrap(),
+            ),
+        ];
+        for (what, x, y) in pairs {
+            assert!(
+                (x - y).abs() < 1e-4 * (1.0 + x.abs()),
+                "update {}: {what} {x} vs {y}",
+                a.update
+            );
+        }
+    }
+}
+
 /// Exact resume, for Other-Play (per-seat symmetries drawn by episode) and for Off-Belief
 /// Learning: level 1 (beliefs and level-0 moves drawn by step) and level 2 (the belief
 /// trained on level 1 anew at resume, memories rebuilt from the saved histories).

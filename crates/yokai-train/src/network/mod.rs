@@ -25,7 +25,7 @@ use yokai_engine::{Config, ImageLayout, Part};
 use yokai_vec::Encoding;
 
 /// Maps a batch of flattened observations `[B, L]` to embeddings `[B, output_size]`.
-pub trait Encoder: Module + burn::module::ModuleDisplay + Sized {
+pub trait Encoder: Module + burn::module::ModuleDisplay + Sized + Sync {
     /// The `network.encoder` kinds this type implements (a checkpoint's config names one).
     const KINDS: &'static [EncoderKind];
     /// The observation encoding the encoder reads.
@@ -142,7 +142,7 @@ impl Encoder for MlpEncoder {
 /// vector; a Transformer-XL its output and its window of past inputs): the trainer stores,
 /// resets and checkpoints it without knowing its layout, and the heads read
 /// [`Recurrent::output`] of it.
-pub trait Recurrent: Module + burn::module::ModuleDisplay + Sized {
+pub trait Recurrent: Module + burn::module::ModuleDisplay + Sized + Sync {
     /// The `network.memory` this type implements (a checkpoint's config names one).
     const KIND: MemoryKind;
     /// A memory reading inputs of width `d_in`, sized by the network config.

@@ -16,6 +16,7 @@
 //! state and the update that joins them.
 
 mod checkpoint;
+mod minibatch;
 mod obl;
 mod ppo;
 mod rollout;
