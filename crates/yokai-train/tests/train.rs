@@ -190,6 +190,47 @@ fn sharded_learning_takes_the_one_shard_step() {
     }
 }
 
+/// The rollout's acting step cut into parts on 3 threads (rows 0–6, 7–13, 14–15 of 16)
+/// gives every row what the uncut step gives: values, new states, and the choosing rows'
+/// logits in row order (pointer head, whose actor reads the observation too).
+#[test]
+fn the_sharded_acting_step_is_the_whole_one() {
+    use burn::module::Module;
+    let mut config = tiny(SymmetrySet::None, 1);
+    config.network.head = yokai_train::ActionHead::Pointer;
+    let mut t = Trainer::<MlpEncoder>::new(config, 2).unwrap();
+    t.update().unwrap();
+    let net = t.model().valid();
+    let (obs, masks) = t.views();
+    let rows = 16;
+    let na = masks.len() / rows;
+    let h = net.hidden_size();
+    let states: Vec<f32> = (0..rows * h).map(|i| (i % 13) as f32 / 6.0 - 1.0).collect();
+    let keep: Vec<f32> = (0..rows).map(|r| (r % 5 != 0) as u8 as f32).collect();
+    // Every other row chooses, as if it had several legal actions.
+    let choosing: Vec<usize> = (0..rows).filter(|r| r % 2 == 1 || *r == 14).collect();
+    let device = burn::prelude::Device::flex();
+    let whole = net.act(&obs, &states, &keep, &choosing, &device);
+    let cut = rayon::ThreadPoolBuilder::new()
+        .num_threads(3)
+        .build()
+        .unwrap()
+        .install(|| net.act_sharded(&obs, &states, &keep, &choosing, &device, 3));
+    assert_eq!(whole.values.len(), rows);
+    assert_eq!(whole.states.len(), rows * h);
+    assert_eq!(whole.logits.len(), choosing.len() * na);
+    for (what, a, b) in [
+        ("values", &whole.values, &cut.values),
+        ("states", &whole.states, &cut.states),
+        ("logits", &whole.logits, &cut.logits),
+    ] {
+        assert_eq!(a.len(), b.len(), "{what}");
+        for (i, (x, y)) in a.iter().zip(b).enumerate() {
+            assert!((x - y).abs() < 1e-4, "{what}[{i}]: {x} whole, {y} cut");
+        }
+    }
+}
+
 /// Exact resume, for Other-Play (per-seat symmetries drawn by episode) and for Off-Belief
 /// Learning: level 1 (beliefs and level-0 moves drawn by step) and level 2 (the belief
 /// trained on level 1 anew at resume, memories rebuilt from the saved histories).

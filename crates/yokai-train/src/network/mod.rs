@@ -230,6 +230,15 @@ pub struct ActorCritic<E: Encoder, M: Recurrent> {
     hidden: usize,
 }
 
+/// What [`ActorCritic::act`] gives for a batch of rows: every row's value `[B]` and new
+/// state `[B, H]`, and the choosing rows' action logits `[choosing, N_a]`, in row order.
+#[derive(Clone, Debug, Default)]
+pub struct Acted {
+    pub values: Vec<f32>,
+    pub states: Vec<f32>,
+    pub logits: Vec<f32>,
+}
+
 impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
     /// A freshly initialised network; a pure function of `seed`.
     pub fn new(config: &TrainConfig, game: &Config, seed: u64, device: &Device) -> Self {
@@ -318,6 +327,81 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
             crate::trainer::tensor2(chosen_obs.collect(), [rows.len(), l], &device),
             states.select(0, crate::trainer::rows_tensor(idx, &device)),
         ))
+    }
+
+    /// One step of acting for `B` rows, on flat buffers: observations `[B, L]`, states
+    /// `[B, H]`, `keep` `[B]` as in [`ActorCritic::step`]. Returns every row's value and new
+    /// state, and the action logits of the rows `choosing` (ascending), as
+    /// [`ActorCritic::logits_of_rows`] gives them.
+    pub fn act(
+        &self,
+        obs: &[f32],
+        states: &[f32],
+        keep: &[f32],
+        choosing: &[usize],
+        device: &Device,
+    ) -> Acted {
+        use crate::trainer::{tensor2, to_vec};
+        let rows = keep.len();
+        let h = self.recur(
+            tensor2(obs.to_vec(), [rows, obs.len() / rows.max(1)], device),
+            tensor2(states.to_vec(), [rows, states.len() / rows.max(1)], device),
+            tensor2(keep.to_vec(), [rows, 1], device),
+        );
+        Acted {
+            values: to_vec(self.values(h.clone())),
+            logits: self.logits_of_rows(obs, h.clone(), choosing),
+            states: to_vec(h),
+        }
+    }
+
+    /// [`ActorCritic::act`] with the rows cut into `shards` contiguous parts that run side
+    /// by side on rayon's threads: an acting step's matrices are a few rows wide, too small
+    /// for burn's kernels to split, so one part per core is what uses the cores. Every row
+    /// gets what it gets alone, so the result is [`ActorCritic::act`]'s up to float rounding.
+    pub fn act_sharded(
+        &self,
+        obs: &[f32],
+        states: &[f32],
+        keep: &[f32],
+        choosing: &[usize],
+        device: &Device,
+        shards: usize,
+    ) -> Acted {
+        use rayon::prelude::*;
+        let rows = keep.len();
+        let per = rows.div_ceil(shards.max(1)).max(1);
+        if per >= rows {
+            return self.act(obs, states, keep, choosing, device);
+        }
+        let (l, h) = (obs.len() / rows, states.len() / rows);
+        let parts: Vec<Acted> = (0..rows)
+            .step_by(per)
+            .collect::<Vec<_>>()
+            .into_par_iter()
+            .map(|start| {
+                let end = (start + per).min(rows);
+                let mine: Vec<usize> = choosing
+                    .iter()
+                    .filter(|&&r| (start..end).contains(&r))
+                    .map(|&r| r - start)
+                    .collect();
+                self.act(
+                    &obs[start * l..end * l],
+                    &states[start * h..end * h],
+                    &keep[start..end],
+                    &mine,
+                    device,
+                )
+            })
+            .collect();
+        let mut all = Acted::default();
+        for part in parts {
+            all.values.extend(part.values);
+            all.states.extend(part.states);
+            all.logits.extend(part.logits);
+        }
+        all
     }
 
     /// The action logits and, where the network has a colour layer (`ppo.belief_aux`),

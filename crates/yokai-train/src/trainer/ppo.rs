@@ -81,7 +81,7 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         let c = self.config.ppo.clone();
         let dims = (self.rows, self.obs_len, self.model.hidden_size());
         let (shards, totals) =
-            minibatch::gather(ro, batch, self.learn_shards(), &c, &self.game, dims);
+            minibatch::gather(ro, batch, self.cpu_shards(), &c, &self.game, dims);
         let (model, device, game) = (&self.model, &self.device, &self.game);
         let mut outs: Vec<ShardOut> = if shards.len() == 1 {
             shards
@@ -115,16 +115,6 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
                 let hits = total(|o| o.belief_hits as f64);
                 (total(|o| o.belief), hits / (n * y) as f64)
             }),
-        }
-    }
-
-    /// How many shards a minibatch learns in: one per worker thread on the CPU, one on a
-    /// GPU (whose kernels already fill the device).
-    fn learn_shards(&self) -> usize {
-        if self.device == super::default_device().autodiff() {
-            rayon::current_num_threads()
-        } else {
-            1
         }
     }
 }

@@ -106,6 +106,7 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         let h0 = self.state.hidden.clone();
         let net = self.model.valid();
         let dev = self.infer_device.clone();
+        let shards = self.cpu_shards();
         let mut joint = vec![0u32; rows];
         let no_choice = vec![0f32; na];
         let mut games = MetricsAccumulator::default();
@@ -119,13 +120,6 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             let keep = self.keeps();
             keeps[t * rows..][..rows].copy_from_slice(&keep);
             self.step_belief_memory(o, &keep);
-            let h = net.recur(
-                tensor2(o.to_vec(), [rows, l], &dev),
-                tensor2(self.state.hidden.clone(), [rows, hsz], &dev),
-                tensor2(keep, [rows, 1], &dev),
-            );
-            values[t * rows..][..rows].copy_from_slice(&to_vec(net.values(h.clone())));
-            self.state.hidden = to_vec(h.clone());
             for r in 0..rows {
                 legal[t * rows + r] = m[r * na..][..na].iter().filter(|&&x| x > 0.5).count() as u32;
             }
@@ -134,7 +128,10 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             // drawn from zero logits: its only action has log-prob 0 and entropy 0 whatever
             // its logit, so the draws below are unchanged.
             let choosing: Vec<usize> = (0..rows).filter(|&r| legal[t * rows + r] > 1).collect();
-            let chosen = net.logits_of_rows(o, h, &choosing);
+            let acted = net.act_sharded(o, &self.state.hidden, &keep, &choosing, &dev, shards);
+            values[t * rows..][..rows].copy_from_slice(&acted.values);
+            self.state.hidden = acted.states;
+            let chosen = acted.logits;
             let mut next_chosen = chosen.chunks_exact(na);
             let acting = self.env.acting_seats().to_vec();
             // Learning reads the belief targets of the rows that choose, which are the
