@@ -259,14 +259,14 @@ impl TrainedPolicy {
         let acting: Vec<usize> = (0..rows.len())
             .filter(|&k| rows[k].0.current_seat() == rows[k].1)
             .collect();
-        let (o, s, k) = self.batch_tensors(obs.clone(), states, keep);
-        let (logits, states) = with_net!(&self.net, m => {
-            let h = m.recur(o, s, k);
-            (m.logits_of_rows(&obs, h.clone(), &acting), crate::trainer::to_vec(h))
+        // Many rows (a batch of games) run in one part per worker thread.
+        let shards = rayon::current_num_threads();
+        let acted = with_net!(&self.net, m => {
+            m.act_sharded(&obs, &states, &keep, &acting, &self.device, shards)
         });
         SeatStep {
-            states,
-            logits,
+            states: acted.states,
+            logits: acted.logits,
             acting,
             num_actions: self.game.num_actions(),
         }
