@@ -8,7 +8,7 @@
 
 use rand_chacha::rand_core::Rng;
 use rand_chacha::ChaCha8Rng;
-use yokai_engine::{ActionError, Colour, DealError, Game, Seat};
+use yokai_engine::{ActionError, Colour, DealError, Game};
 
 /// What one fictitious continuation gave.
 #[derive(Clone, Debug)]
@@ -52,25 +52,66 @@ pub fn continue_fictitiously(
     gamma: f32,
     horizon: usize,
 ) -> Result<Continuation, ContinuationError> {
-    let seat: Seat = game.current_seat();
-    let mut fict = game.with_card_colours(colours)?;
-    let mut states = Vec::with_capacity(horizon.min(16));
-    let (mut reward, mut discount) = (0f32, 1f32);
-    let mut next = action;
-    loop {
-        let step = fict.apply_index(next)?;
-        reward += discount * (step.reward as f32 + shaping * step.shaping as f32);
-        discount *= gamma;
-        states.push(fict.clone());
-        if step.done || fict.current_seat() == seat || states.len() >= horizon {
-            return Ok(Continuation {
-                states,
-                reward,
-                done: step.done,
-            });
-        }
-        next = partner(&fict);
+    let mut one = continue_all(
+        &[(game, colours, action)],
+        &mut |_, games| vec![partner(games[0])],
+        shaping,
+        gamma,
+        horizon,
+    )
+    .map_err(|(_, e)| e)?;
+    Ok(one.remove(0))
+}
+
+/// [`continue_fictitiously`] for many games at once, `starts` holding each one's game,
+/// colouring and action. The continuations step in lockstep, so that `partners` runs once
+/// per step for all that are still open (the previous level's network then steps all their
+/// partner seats in one batch): it is given their indices in `starts` and their fictitious
+/// games, and returns an action index for each, in order. An error names the start.
+pub fn continue_all(
+    starts: &[(&Game, &[Colour], usize)],
+    partners: &mut impl FnMut(&[usize], &[&Game]) -> Vec<usize>,
+    shaping: f32,
+    gamma: f32,
+    horizon: usize,
+) -> Result<Vec<Continuation>, (usize, ContinuationError)> {
+    let mut fict = Vec::with_capacity(starts.len());
+    for (k, &(game, colours, _)) in starts.iter().enumerate() {
+        fict.push(game.with_card_colours(colours).map_err(|e| (k, e.into()))?);
     }
+    let mut out: Vec<Continuation> = (0..starts.len())
+        .map(|_| Continuation {
+            states: Vec::with_capacity(horizon.min(16)),
+            reward: 0.0,
+            done: false,
+        })
+        .collect();
+    let mut discount = vec![1f32; starts.len()];
+    let mut next: Vec<usize> = starts.iter().map(|s| s.2).collect();
+    let mut open: Vec<usize> = (0..starts.len()).collect();
+    while !open.is_empty() {
+        let mut still = Vec::with_capacity(open.len());
+        for &k in &open {
+            let step = fict[k].apply_index(next[k]).map_err(|e| (k, e.into()))?;
+            let c = &mut out[k];
+            c.reward += discount[k] * (step.reward as f32 + shaping * step.shaping as f32);
+            discount[k] *= gamma;
+            c.states.push(fict[k].clone());
+            c.done = step.done;
+            let again = fict[k].current_seat() == starts[k].0.current_seat();
+            if !(step.done || again || c.states.len() >= horizon) {
+                still.push(k);
+            }
+        }
+        if !still.is_empty() {
+            let games: Vec<&Game> = still.iter().map(|&k| &fict[k]).collect();
+            for (&k, a) in still.iter().zip(partners(&still, &games)) {
+                next[k] = a;
+            }
+        }
+        open = still;
+    }
+    Ok(out)
 }
 
 /// π₀, the level below level 1: a uniformly random legal action index of the acting seat.
@@ -90,7 +131,7 @@ mod tests {
     use super::*;
     use crate::obl::sample_first_hand_consistent;
     use rand_chacha::rand_core::SeedableRng;
-    use yokai_engine::{Action, Cell, Config, Deal, Substep};
+    use yokai_engine::{Action, Cell, Config, Deal, Seat, Substep};
 
     /// The OBL value of END at the first step of a hand-built game, against the value
     /// computed by hand. The nine cards lie in one row, seat 0 has seen none, so its level-1
@@ -182,5 +223,76 @@ mod tests {
             }
             game = real;
         }
+    }
+
+    /// The continuations of many games stepped in lockstep are each what its game's own
+    /// continuation gives, with a partner that is a function of the game alone (so that the
+    /// order of the partner's calls cannot matter): games at random points of random play,
+    /// each continued from a belief sample and a random legal action (END among them).
+    #[test]
+    fn continuations_in_lockstep_are_the_games_own() {
+        let config = Config::from_name("9c-2p").unwrap();
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        let partner = |g: &Game| {
+            let legal = g.legal_actions(g.current_seat());
+            let pick = (g.steps() * 7 + legal.len()) % legal.len();
+            g.config().encode(legal[pick])
+        };
+        let mut games = Vec::new();
+        for d in 0..40u64 {
+            let mut g = Game::new(config, d);
+            for _ in 0..(d * 3 % 25) {
+                if g.is_over() {
+                    break;
+                }
+                let mut legal = g.legal_actions(g.current_seat());
+                legal.retain(|&a| a != Action::End);
+                let a = legal[(rng.next_u64() % legal.len() as u64) as usize];
+                g.apply(a).unwrap();
+            }
+            if !g.is_over() {
+                games.push(g);
+            }
+        }
+        assert!(games.len() > 30);
+        let colourings: Vec<Vec<Colour>> = games
+            .iter()
+            .map(|g| sample_first_hand_consistent(g, g.current_seat(), &mut rng))
+            .collect();
+        let actions: Vec<usize> = games.iter().map(|g| random_legal(g, &mut rng)).collect();
+        let starts: Vec<(&Game, &[Colour], usize)> = games
+            .iter()
+            .zip(&colourings)
+            .zip(&actions)
+            .map(|((g, c), &a)| (g, &c[..], a))
+            .collect();
+        let mut calls = 0;
+        let together = continue_all(
+            &starts,
+            &mut |which, gs| {
+                calls += 1;
+                assert_eq!(which.len(), gs.len());
+                gs.iter().map(|g| partner(g)).collect()
+            },
+            1.0,
+            0.99,
+            8,
+        )
+        .unwrap();
+        let mut longest = 0;
+        for (k, &(g, colours, a)) in starts.iter().enumerate() {
+            let alone =
+                continue_fictitiously(g, colours, a, &mut |g| partner(g), 1.0, 0.99, 8).unwrap();
+            let both = &together[k];
+            assert_eq!(both.states, alone.states, "game {k}");
+            assert_eq!(
+                (both.reward, both.done),
+                (alone.reward, alone.done),
+                "game {k}"
+            );
+            longest = longest.max(alone.steps());
+        }
+        assert!(longest > 1, "some continuation had partner steps");
+        assert_eq!(calls, longest - 1, "one partner call per lockstep step");
     }
 }

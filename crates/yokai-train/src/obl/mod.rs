@@ -25,4 +25,4 @@ pub mod learn;
 pub mod model;
 
 pub use belief::{first_hand, first_hand_slots, sample_first_hand_consistent};
-pub use continuation::{continue_fictitiously, Continuation};
+pub use continuation::{continue_all, continue_fictitiously, Continuation};

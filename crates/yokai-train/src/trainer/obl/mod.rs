@@ -25,11 +25,9 @@ pub(crate) use previous::PreviousLevel;
 
 use super::{tensor2, to_vec, TrainError, Trainer};
 use crate::network::{ActorCritic, Encoder, Recurrent};
-use crate::obl::{
-    continue_fictitiously, first_hand_slots, sample_first_hand_consistent, Continuation,
-};
+use crate::obl::{continue_all, first_hand_slots, sample_first_hand_consistent, Continuation};
 use memory::{episode_states, step_along};
-use previous::Partner;
+use previous::Partners;
 use rand_chacha::rand_core::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use yokai_engine::{derive_seed, Colour, Game, Part, Seat};
@@ -64,36 +62,45 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
                 .collect(),
             Some(previous) => self.sample_beliefs(previous, &mut rng)?,
         };
-        let mut partner_states = match &self.previous {
+        let partner_states = match &self.previous {
             None => vec![Vec::new(); n],
             Some(previous) => self.partner_memories(previous, &colourings)?,
         };
-        let mut runs: Vec<(usize, Seat, Continuation)> = Vec::with_capacity(n);
-        for (i, colours) in colourings.iter().enumerate() {
-            let game = self.env.game(i);
-            let seat = game.current_seat();
-            let row = i * p + seat.index();
-            let mut partner = match &self.previous {
-                None => Partner::Random(&mut partner_rng),
-                Some(previous) => Partner::Previous {
-                    policy: &previous.policy,
-                    seats: partners_of(game, seat),
-                    states: std::mem::take(&mut partner_states[i]),
-                    rng: &mut partner_rng,
-                },
-            };
-            let c = continue_fictitiously(
-                game,
-                colours,
-                joint[row] as usize,
-                &mut |g| partner.act(g),
-                shaping,
-                gamma,
-                4 * p,
-            )
-            .map_err(|e| TrainError::Obl(format!("env {i}, step {t}: {e}")))?;
-            runs.push((row, seat, c));
-        }
+        let starts: Vec<(&Game, &[Colour], usize)> = colourings
+            .iter()
+            .enumerate()
+            .map(|(i, colours)| {
+                let game = self.env.game(i);
+                let row = i * p + game.current_seat().index();
+                (game, &colours[..], joint[row] as usize)
+            })
+            .collect();
+        let mut partners = match &self.previous {
+            None => Partners::Random(&mut partner_rng),
+            Some(previous) => Partners::Previous {
+                policy: &previous.policy,
+                seats: starts
+                    .iter()
+                    .map(|(g, _, _)| partners_of(g, g.current_seat()))
+                    .collect(),
+                states: partner_states,
+                rng: &mut partner_rng,
+            },
+        };
+        let continued = continue_all(
+            &starts,
+            &mut |which, games| partners.act(which, games),
+            shaping,
+            gamma,
+            4 * p,
+        )
+        .map_err(|(i, e)| TrainError::Obl(format!("env {i}, step {t}: {e}")))?;
+        let runs: Vec<(usize, Seat, Continuation)> = starts
+            .iter()
+            .zip(continued)
+            .enumerate()
+            .map(|(i, ((g, _, _), c))| (i * p + g.current_seat().index(), g.current_seat(), c))
+            .collect();
         // Each seat's memory reads its observations of the fictitious steps, from its state at
         // t; a continuation that ended needs no value, so its seat reads nothing.
         let dev = &self.infer_device;

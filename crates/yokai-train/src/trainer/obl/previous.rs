@@ -77,42 +77,59 @@ impl PreviousLevel {
     }
 }
 
-/// Who plays the partners' turns in a fictitious continuation.
-pub(super) enum Partner<'a> {
+/// Who plays the partners' turns in the fictitious continuations of one rollout step.
+pub(super) enum Partners<'a> {
     /// Level 0: uniformly random legal play.
     Random(&'a mut ChaCha8Rng),
-    /// The previous level: every partner seat's memory (rebuilt in the fictitious world)
-    /// reads each state; the acting one samples from its logits.
+    /// The previous level: per continuation, its partner seats and their memories (rebuilt
+    /// in the fictitious world, `[seats × H]`). Every partner seat's memory reads each
+    /// state; the acting one samples from its logits.
     Previous {
         policy: &'a TrainedPolicy,
-        seats: Vec<Seat>,
-        states: Vec<f32>,
+        seats: Vec<Vec<Seat>>,
+        states: Vec<Vec<f32>>,
         rng: &'a mut ChaCha8Rng,
     },
 }
 
-impl Partner<'_> {
-    /// The acting seat's action index in `game` (a partner of the seat the continuation is
-    /// for).
-    pub fn act(&mut self, game: &Game) -> usize {
+impl Partners<'_> {
+    /// The acting seat's action index in each of `games`, the fictitious games of the
+    /// continuations `which` (a partner of the seat each continuation is for). The previous
+    /// level's network steps every partner seat of them in one batch.
+    pub fn act(&mut self, which: &[usize], games: &[&Game]) -> Vec<usize> {
         match self {
-            Partner::Random(rng) => random_legal(game, rng),
-            Partner::Previous {
+            Partners::Random(rng) => games.iter().map(|g| random_legal(g, rng)).collect(),
+            Partners::Previous {
                 policy,
                 seats,
                 states,
                 rng,
             } => {
-                let rows: Vec<(&Game, Seat)> = seats.iter().map(|&s| (game, s)).collect();
-                let keep = vec![1.0; seats.len()];
-                let stepped = policy.step_seats(&rows, std::mem::take(states), keep);
-                let k = seats
+                let rows: Vec<(&Game, Seat)> = which
                     .iter()
-                    .position(|&s| s == game.current_seat())
-                    .expect("the continuation asks only for partners' actions");
-                let a = sample_legal(game, stepped.logits(k).expect("the acting seat"), rng);
-                *states = stepped.states;
-                a
+                    .zip(games)
+                    .flat_map(|(&k, &g)| seats[k].iter().map(move |&s| (g, s)))
+                    .collect();
+                let memories = which
+                    .iter()
+                    .flat_map(|&k| std::mem::take(&mut states[k]))
+                    .collect();
+                let stepped = policy.step_seats(&rows, memories, vec![1.0; rows.len()]);
+                let h = policy.hidden_size();
+                let mut at = 0;
+                let mut actions = Vec::with_capacity(games.len());
+                for (&k, &game) in which.iter().zip(games) {
+                    let m = seats[k].len();
+                    states[k] = stepped.states[at * h..(at + m) * h].to_vec();
+                    let j = seats[k]
+                        .iter()
+                        .position(|&s| s == game.current_seat())
+                        .expect("the continuation asks only for partners' actions");
+                    let logits = stepped.logits(at + j).expect("the acting seat");
+                    actions.push(sample_legal(game, logits, rng));
+                    at += m;
+                }
+                actions
             }
         }
     }
