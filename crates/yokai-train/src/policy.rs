@@ -259,10 +259,9 @@ impl TrainedPolicy {
         let acting: Vec<usize> = (0..rows.len())
             .filter(|&k| rows[k].0.current_seat() == rows[k].1)
             .collect();
-        // Many rows (a batch of games) run in one part per worker thread.
-        let shards = rayon::current_num_threads();
+        let shards = crate::network::shards_on(&self.device);
         let acted = with_net!(&self.net, m => {
-            m.act_sharded(&obs, &states, &keep, &acting, &self.device, shards)
+            m.act(&obs, &states, &keep, &acting, &self.device, shards)
         });
         SeatStep {
             states: acted.states,

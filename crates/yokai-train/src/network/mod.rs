@@ -230,6 +230,17 @@ pub struct ActorCritic<E: Encoder, M: Recurrent> {
     hidden: usize,
 }
 
+/// How many parts a batch of rows is cut into on `device`, acting ([`ActorCritic::act`])
+/// and learning: one per worker thread on the CPU, where a batch's small matrices would
+/// otherwise run on one core; one on a GPU, whose kernels already fill the device.
+pub fn shards_on(device: &Device) -> usize {
+    if *device == crate::trainer::default_device() {
+        rayon::current_num_threads()
+    } else {
+        1
+    }
+}
+
 /// What [`ActorCritic::act`] gives for a batch of rows: every row's value `[B]` and new
 /// state `[B, H]`, and the choosing rows' action logits `[choosing, N_a]`, in row order.
 #[derive(Clone, Debug, Default)]
@@ -333,7 +344,59 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
     /// `[B, H]`, `keep` `[B]` as in [`ActorCritic::step`]. Returns every row's value and new
     /// state, and the action logits of the rows `choosing` (ascending), as
     /// [`ActorCritic::logits_of_rows`] gives them.
+    ///
+    /// The rows are cut into `shards` contiguous parts that run side by side on rayon's
+    /// threads ([`shards_on`] says how many a device wants): an acting step's matrices are a
+    /// few rows wide, too small for burn's kernels to split, so one part per core is what
+    /// uses the cores. Every row gets what it gets alone, so the result does not depend on
+    /// `shards` beyond float rounding.
     pub fn act(
+        &self,
+        obs: &[f32],
+        states: &[f32],
+        keep: &[f32],
+        choosing: &[usize],
+        device: &Device,
+        shards: usize,
+    ) -> Acted {
+        use rayon::prelude::*;
+        let rows = keep.len();
+        let per = rows.div_ceil(shards.max(1)).max(1);
+        if per >= rows {
+            return self.act_part(obs, states, keep, choosing, device);
+        }
+        let (l, h) = (obs.len() / rows, states.len() / rows);
+        let parts: Vec<Acted> = (0..rows)
+            .step_by(per)
+            .collect::<Vec<_>>()
+            .into_par_iter()
+            .map(|start| {
+                let end = (start + per).min(rows);
+                let mine: Vec<usize> = choosing
+                    .iter()
+                    .filter(|&&r| (start..end).contains(&r))
+                    .map(|&r| r - start)
+                    .collect();
+                self.act_part(
+                    &obs[start * l..end * l],
+                    &states[start * h..end * h],
+                    &keep[start..end],
+                    &mine,
+                    device,
+                )
+            })
+            .collect();
+        let mut all = Acted::default();
+        for part in parts {
+            all.values.extend(part.values);
+            all.states.extend(part.states);
+            all.logits.extend(part.logits);
+        }
+        all
+    }
+
+    /// [`ActorCritic::act`] on one thread, for one part of the rows.
+    fn act_part(
         &self,
         obs: &[f32],
         states: &[f32],
@@ -353,55 +416,6 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
             logits: self.logits_of_rows(obs, h.clone(), choosing),
             states: to_vec(h),
         }
-    }
-
-    /// [`ActorCritic::act`] with the rows cut into `shards` contiguous parts that run side
-    /// by side on rayon's threads: an acting step's matrices are a few rows wide, too small
-    /// for burn's kernels to split, so one part per core is what uses the cores. Every row
-    /// gets what it gets alone, so the result is [`ActorCritic::act`]'s up to float rounding.
-    pub fn act_sharded(
-        &self,
-        obs: &[f32],
-        states: &[f32],
-        keep: &[f32],
-        choosing: &[usize],
-        device: &Device,
-        shards: usize,
-    ) -> Acted {
-        use rayon::prelude::*;
-        let rows = keep.len();
-        let per = rows.div_ceil(shards.max(1)).max(1);
-        if per >= rows {
-            return self.act(obs, states, keep, choosing, device);
-        }
-        let (l, h) = (obs.len() / rows, states.len() / rows);
-        let parts: Vec<Acted> = (0..rows)
-            .step_by(per)
-            .collect::<Vec<_>>()
-            .into_par_iter()
-            .map(|start| {
-                let end = (start + per).min(rows);
-                let mine: Vec<usize> = choosing
-                    .iter()
-                    .filter(|&&r| (start..end).contains(&r))
-                    .map(|&r| r - start)
-                    .collect();
-                self.act(
-                    &obs[start * l..end * l],
-                    &states[start * h..end * h],
-                    &keep[start..end],
-                    &mine,
-                    device,
-                )
-            })
-            .collect();
-        let mut all = Acted::default();
-        for part in parts {
-            all.values.extend(part.values);
-            all.states.extend(part.states);
-            all.logits.extend(part.logits);
-        }
-        all
     }
 
     /// The action logits and, where the network has a colour layer (`ppo.belief_aux`),

@@ -327,17 +327,6 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         }
     }
 
-    /// How many shards a batch of rows is cut into, acting and learning: one per worker
-    /// thread on the CPU, where a batch's small matrices would otherwise run on one core;
-    /// one on a GPU, whose kernels already fill the device.
-    fn cpu_shards(&self) -> usize {
-        if self.infer_device == default_device() {
-            rayon::current_num_threads()
-        } else {
-            1
-        }
-    }
-
     /// Every row's observation and legal mask as its seat sees them (its symmetry applied).
     fn view(&self, obs: &mut [f32], masks: &mut [f32]) {
         let (l, na) = (self.obs_len, self.n_actions);

@@ -7,7 +7,7 @@ use super::rollout::Rollout;
 use super::{rows_tensor, tensor1, tensor2, Trainer};
 use crate::config::EndForm;
 use crate::distribution::{binary_entropy, chosen_log_prob, entropy, masked_log_softmax};
-use crate::network::{Encoder, Recurrent};
+use crate::network::{shards_on, Encoder, Recurrent};
 use burn::module::{Module, ModuleMapper, ModuleVisitor, Param};
 use burn::optim::GradientsParams;
 use burn::prelude::*;
@@ -80,8 +80,14 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
     fn learn(&mut self, batch: &[usize], ro: &Rollout, lr: f64) -> Losses {
         let c = self.config.ppo.clone();
         let dims = (self.rows, self.obs_len, self.model.hidden_size());
-        let (shards, totals) =
-            minibatch::gather(ro, batch, self.cpu_shards(), &c, &self.game, dims);
+        let (shards, totals) = minibatch::gather(
+            ro,
+            batch,
+            shards_on(&self.infer_device),
+            &c,
+            &self.game,
+            dims,
+        );
         let (model, device, game) = (&self.model, &self.device, &self.game);
         let mut outs: Vec<ShardOut> = if shards.len() == 1 {
             shards

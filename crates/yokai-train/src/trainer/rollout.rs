@@ -2,10 +2,10 @@
 //! (observations and masks as each seat saw them, actions, log-probabilities, values,
 //! episode starts) and the GAE advantages and returns.
 
-use super::{tensor2, to_vec, TrainError, Trainer};
+use super::{TrainError, Trainer};
 use crate::distribution::sample_row;
 use crate::gae::gae;
-use crate::network::{Encoder, Recurrent};
+use crate::network::{shards_on, Encoder, Recurrent};
 use burn::module::Module;
 use rand_chacha::ChaCha8Rng;
 use yokai_engine::{Action, MetricsAccumulator};
@@ -54,12 +54,7 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         rng: &mut ChaCha8Rng,
     ) -> Result<Rollout, TrainError> {
         let c = self.config.ppo.clone();
-        let (rows, l, na, hsz) = (
-            self.rows,
-            self.obs_len,
-            self.n_actions,
-            self.model.hidden_size(),
-        );
+        let (rows, l, na) = (self.rows, self.obs_len, self.n_actions);
         let t_len = c.rollout_steps;
         let p = self.game.players();
         let n = c.num_envs;
@@ -106,7 +101,7 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         let h0 = self.state.hidden.clone();
         let net = self.model.valid();
         let dev = self.infer_device.clone();
-        let shards = self.cpu_shards();
+        let shards = shards_on(&dev);
         let mut joint = vec![0u32; rows];
         let no_choice = vec![0f32; na];
         let mut games = MetricsAccumulator::default();
@@ -128,7 +123,7 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             // drawn from zero logits: its only action has log-prob 0 and entropy 0 whatever
             // its logit, so the draws below are unchanged.
             let choosing: Vec<usize> = (0..rows).filter(|&r| legal[t * rows + r] > 1).collect();
-            let acted = net.act_sharded(o, &self.state.hidden, &keep, &choosing, &dev, shards);
+            let acted = net.act(o, &self.state.hidden, &keep, &choosing, &dev, shards);
             values[t * rows..][..rows].copy_from_slice(&acted.values);
             self.state.hidden = acted.states;
             let chosen = acted.logits;
@@ -228,12 +223,16 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             let mut last_obs = vec![0f32; rows * l];
             let mut last_masks = vec![0f32; rows * na];
             self.view(&mut last_obs, &mut last_masks);
-            let last = net.recur(
-                tensor2(last_obs, [rows, l], &dev),
-                tensor2(self.state.hidden.clone(), [rows, hsz], &dev),
-                tensor2(self.keeps(), [rows, 1], &dev),
-            );
-            let last_values = to_vec(net.values(last));
+            let last_values = net
+                .act(
+                    &last_obs,
+                    &self.state.hidden,
+                    &self.keeps(),
+                    &[],
+                    &dev,
+                    shards,
+                )
+                .values;
             let (adv, returns) = gae(
                 &rewards,
                 &values,
