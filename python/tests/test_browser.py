@@ -91,6 +91,16 @@ def test_a_whole_game_by_clicks_matches_the_record(server, browser):
     base, records = server
     shots = os.environ.get("YOKAI_SCREENSHOTS")
     browser.get(base + "/")
+    # Every action's answer comes 150 ms late, as on a loaded machine: while it is on its way
+    # the page must not say it is the player's turn (it once did, and this test clicked cards
+    # that the answer then replaced).
+    browser.execute_script("""
+        const fetchNow = window.fetch;
+        window.fetch = async (url, init) => {
+            const answer = await fetchNow(url, init);
+            if (String(url).endsWith('/actions')) await new Promise((r) => setTimeout(r, 150));
+            return answer;
+        };""")
     browser.find_element(By.CSS_SELECTOR, "#speed option[value='0']").click()
     wait_for(browser, {"your-turn"})
     # Before seat 0 observes anything, no colour is shown (grey cards only).

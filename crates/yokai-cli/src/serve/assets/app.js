@@ -230,12 +230,19 @@ async function act(index) {
   S.card = null;
   S.hint = null;
   showError("");
+  // Until the server answers, the board on screen is the one before this action: it is not
+  // the player's turn (a second click would send a second action, and a test driving the
+  // page would click cards that the answer is about to replace).
+  S.busy = true;
+  document.body.dataset.state = "sending";
   try {
     const g = S.game;
     const next = await api("POST", `/api/games/${g.id}/actions`,
       { session: S.session, seat: g.board.viewer, action: index });
+    S.busy = false;
     await animate(next);
   } catch (e) {
+    S.busy = false;
     showError(e.message);
     render(S.game);
   }
