@@ -59,15 +59,16 @@ impl ActConfig {
 }
 
 /// Off-Belief Learning (docs/training.md): the value target of each of a seat's actions
-/// comes from a fictitious continuation in a world drawn from the seat's belief, played on
-/// by the previous level's policy.
+/// comes from a fictitious continuation in a world drawn from the seat's belief (of the
+/// previous level's play), played on by the policy being learnt.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct OblConfig {
     /// 0: off (IPPO, HE, OP). 1: level 1, whose previous level is uniform random play and
     /// whose belief is exact (uniform over the colourings consistent with the seat's
     /// first-hand colours). 2 and up: the previous level is `previous`, and the belief a
-    /// model trained on its self-play when the run starts.
+    /// model trained on its self-play when the run starts (`yokai train --levels` also
+    /// starts the level from the previous level's weights).
     pub level: u32,
     /// Levels ≥ 2: the previous level's policy (policy file, checkpoint or run directory;
     /// for a directory of `seed-N` runs, seed N uses `seed-N`). A relative path is read
@@ -270,7 +271,9 @@ pub struct PpoConfig {
     /// now would pay (R of the true board, `Game::end_reward`), so the loss adds the
     /// expected policy gradient of END, −π(END|s)·(R_END(s) − V(s)), at every such state,
     /// not only where END was drawn. A centralised-training signal (the policy still acts
-    /// on its own view); 0 (the paper's presets) turns it off.
+    /// on its own view); 0 (the paper's presets) turns it off. Under OBL the board is the
+    /// fictitious one, recoloured by a draw from the acting seat's belief, so the term
+    /// values END as OBL's own target does and never reads the true colours.
     pub end_lookahead: f32,
     /// Which gradient `end_lookahead` adds (see [`EndForm`]); the paper's presets leave
     /// `end_lookahead` at 0, where this does nothing.
@@ -617,13 +620,6 @@ impl TrainConfig {
                     "OBL trains without Other-Play symmetries: set algorithm.symmetries = \"none\"",
                 );
             }
-            if p.end_lookahead > 0.0 {
-                return bad(
-                    "ppo.end_lookahead",
-                    "reads what END pays with the true colours; under OBL ending is valued in \
-                     the fictitious game instead: set it to 0",
-                );
-            }
             if p.cluster_shaping > 0.0 {
                 return bad(
                     "ppo.cluster_shaping",
@@ -760,10 +756,10 @@ mod tests {
             "x",
         );
         assert!(e.contains("obl.level") && e.contains("symmetries"), "{e}");
-        let e = refused("[ppo]\nend_lookahead = 0.5\n[obl]\nlevel = 1\n", "x");
+        // Under OBL the END term reads the world drawn from the belief (trainer/rollout.rs).
         assert!(
-            e.contains("ppo.end_lookahead") && e.contains("fictitious"),
-            "{e}"
+            TrainConfig::from_toml_str("[ppo]\nend_lookahead = 0.5\n[obl]\nlevel = 1\n", "x")
+                .is_ok()
         );
         let e = refused("[ppo]\ncluster_shaping = 1.0\n[obl]\nlevel = 1\n", "x");
         assert!(e.contains("ppo.cluster_shaping"), "{e}");

@@ -29,5 +29,6 @@ pub mod policy;
 pub mod probe;
 pub mod run;
 
-pub use policy::{NetworkPolicy, SeatStep, TrainedPolicy};
+pub use network::SeatStep;
+pub use policy::{NetworkPolicy, TrainedPolicy};
 pub use run::{read_metrics, train_run, RunRequest, RunSummary};

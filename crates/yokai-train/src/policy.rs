@@ -5,7 +5,8 @@ use crate::config::{ActConfig, EncoderKind, MemoryKind, TrainConfig};
 use crate::distribution::{decide_end_row, sample_row};
 use crate::file::Container;
 use crate::network::{
-    ActorCritic, CnnEncoder, Encoder, GraphEncoder, GruCell, MlpEncoder, Recurrent, TransformerXl,
+    ActorCritic, CnnEncoder, Encoder, GraphEncoder, GruCell, MlpEncoder, Recurrent, SeatStep,
+    TransformerXl,
 };
 use crate::run::{CHECKPOINT, POLICY};
 use crate::trainer::{default_device, load_model, read_header, FileHeader, TrainError};
@@ -242,59 +243,16 @@ impl TrainedPolicy {
         )
     }
 
-    /// One step of the network for the seats `rows` (a game and a seat each, whose
-    /// observations it writes itself), states `[rows × H]` and `keep` `[rows]` as in
-    /// [`TrainedPolicy::recur_batch`]: every seat's memory steps, and the actor runs for the
-    /// seats whose turn it is (the others only wait). For callers that drive many seats of
-    /// many games (Off-Belief Learning's previous level, the probe recorder).
+    /// [`ActorCritic::step_seats`] of this policy's network, on its device: every seat's
+    /// memory steps, and the actor runs for the seats whose turn it is. For callers that
+    /// drive many seats of many games (the probe recorder, OBL's belief data).
     pub fn step_seats(&self, rows: &[(&Game, Seat)], states: Vec<f32>, keep: Vec<f32>) -> SeatStep {
-        let encoding = self.encoding();
-        let l: usize = encoding.shape(&self.game).iter().product();
-        let mut obs = vec![0f32; rows.len() * l];
-        for (k, &(game, seat)) in rows.iter().enumerate() {
-            encoding
-                .write(game, seat, &mut obs[k * l..][..l])
-                .expect("buffers sized from the policy's own game config");
-        }
-        let acting: Vec<usize> = (0..rows.len())
-            .filter(|&k| rows[k].0.current_seat() == rows[k].1)
-            .collect();
-        let shards = crate::network::shards_on(&self.device);
-        let acted = with_net!(&self.net, m => {
-            m.act(&obs, &states, &keep, &acting, &self.device, shards)
-        });
-        SeatStep {
-            states: acted.states,
-            logits: acted.logits,
-            acting,
-            num_actions: self.game.num_actions(),
-        }
+        with_net!(&self.net, m => m.step_seats(rows, states, keep, &self.device))
     }
 
     /// A fresh seat-holder; `seed` drives its action sampling.
     pub fn build(&self, seed: u64) -> Box<dyn Policy> {
         with_net!(&self.net, m => Box::new(NetworkPolicy::new((**m).clone(), self, seed)))
-    }
-}
-
-/// What [`TrainedPolicy::step_seats`] returns: every seat's new memory state, and the action
-/// logits of the seats whose turn it is.
-#[derive(Clone, Debug)]
-pub struct SeatStep {
-    /// The new states `[rows × H]`, in the order of the rows.
-    pub states: Vec<f32>,
-    /// The acting rows' logits `[acting × N_a]`.
-    logits: Vec<f32>,
-    /// The rows whose seat acts, ascending.
-    acting: Vec<usize>,
-    num_actions: usize,
-}
-
-impl SeatStep {
-    /// Row `k`'s action logits (unmasked), if its seat is the one to act.
-    pub fn logits(&self, k: usize) -> Option<&[f32]> {
-        let i = self.acting.binary_search(&k).ok()?;
-        Some(&self.logits[i * self.num_actions..][..self.num_actions])
     }
 }
 

@@ -241,6 +241,27 @@ pub fn shards_on(device: &Device) -> usize {
     }
 }
 
+/// What [`ActorCritic::step_seats`] returns: every seat's new memory state, and the action
+/// logits of the seats whose turn it is.
+#[derive(Clone, Debug, Default)]
+pub struct SeatStep {
+    /// The new states `[rows × H]`, in the order of the rows.
+    pub states: Vec<f32>,
+    /// The acting rows' logits `[acting × N_a]`.
+    logits: Vec<f32>,
+    /// The rows whose seat acts, ascending.
+    acting: Vec<usize>,
+    num_actions: usize,
+}
+
+impl SeatStep {
+    /// Row `k`'s action logits (unmasked), if its seat is the one to act.
+    pub fn logits(&self, k: usize) -> Option<&[f32]> {
+        let i = self.acting.binary_search(&k).ok()?;
+        Some(&self.logits[i * self.num_actions..][..self.num_actions])
+    }
+}
+
 /// What [`ActorCritic::act`] gives for a batch of rows: every row's value `[B]` and new
 /// state `[B, H]`, and the choosing rows' action logits `[choosing, N_a]`, in row order.
 #[derive(Clone, Debug, Default)]
@@ -393,6 +414,43 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
             all.logits.extend(part.logits);
         }
         all
+    }
+
+    /// One step of the network for the seats `rows` (a game and a seat each, whose
+    /// observations it writes itself), states `[rows × H]` and `keep` `[rows]` as in
+    /// [`ActorCritic::step`]: every seat's memory steps, and the actor runs for the seats
+    /// whose turn it is (the others only wait). For callers that drive seats of games outside
+    /// the batched environment: OBL's partners in fictitious continuations, the probe
+    /// recorder, [`crate::TrainedPolicy::step_seats`].
+    pub fn step_seats(
+        &self,
+        rows: &[(&yokai_engine::Game, yokai_engine::Seat)],
+        states: Vec<f32>,
+        keep: Vec<f32>,
+        device: &Device,
+    ) -> SeatStep {
+        let Some(&(first, _)) = rows.first() else {
+            return SeatStep::default();
+        };
+        let game = *first.config();
+        let encoding = E::encoding();
+        let l: usize = encoding.shape(&game).iter().product();
+        let mut obs = vec![0f32; rows.len() * l];
+        for (k, &(g, seat)) in rows.iter().enumerate() {
+            encoding
+                .write(g, seat, &mut obs[k * l..][..l])
+                .expect("buffers sized from the games' own config");
+        }
+        let acting: Vec<usize> = (0..rows.len())
+            .filter(|&k| rows[k].0.current_seat() == rows[k].1)
+            .collect();
+        let acted = self.act(&obs, &states, &keep, &acting, device, shards_on(device));
+        SeatStep {
+            states: acted.states,
+            logits: acted.logits,
+            acting,
+            num_actions: game.num_actions(),
+        }
     }
 
     /// [`ActorCritic::act`] on one thread, for one part of the rows.

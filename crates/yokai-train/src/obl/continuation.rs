@@ -1,5 +1,5 @@
 //! One fictitious continuation: a seat's action in a world drawn from its belief, then the
-//! previous level's policy until the seat is to act again.
+//! partners' play (the policy being learnt) until the seat is to act again.
 //!
 //! How far it runs (docs/training.md): a turn is four substeps of one seat, so after the
 //! seat's OBSERVE or MOVE it acts again at once (one step), and after its REVEAL or PLACE
@@ -40,7 +40,7 @@ pub enum ContinuationError {
 }
 
 /// Apply the acting seat's action `action` (an action index) to `game` recoloured with
-/// `colours`, then let `partner` (the previous level's policy: an action index for the
+/// `colours`, then let `partner` (the partners' policy: an action index for the
 /// acting seat of a game) play until that seat is to act again, the game ends, or `horizon`
 /// steps have been taken.
 pub fn continue_fictitiously(
@@ -65,7 +65,7 @@ pub fn continue_fictitiously(
 
 /// [`continue_fictitiously`] for many games at once, `starts` holding each one's game,
 /// colouring and action. The continuations step in lockstep, so that `partners` runs once
-/// per step for all that are still open (the previous level's network then steps all their
+/// per step for all that are still open (the partners' network then steps all their
 /// partner seats in one batch): it is given their indices in `starts` and their fictitious
 /// games, and returns an action index for each, in order. An error names the start.
 pub fn continue_all(

@@ -137,14 +137,6 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
                     self.view_truth(r, &mut truth[(t * rows + r) * y..][..y]);
                 }
             }
-            if lookahead {
-                for (i, &seat) in acting.iter().enumerate() {
-                    let r = i * p + seat as usize;
-                    if m[r * na + end] > 0.5 {
-                        end_rewards[t * rows + r] = self.env.game(i).end_reward() as f32;
-                    }
-                }
-            }
             for r in 0..rows {
                 let u = crate::distribution::unit_draw(rng);
                 let logits = if legal[t * rows + r] > 1 {
@@ -163,9 +155,30 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
                 }
                 joint[r] = self.to_true_action(r, a) as u32;
             }
-            if obl {
-                for (r, target) in self.obl_targets(&net, t, &joint, shaping as f32)? {
+            let worlds = if obl {
+                let step = self.obl_targets(&net, t, &joint, shaping as f32)?;
+                for (r, target) in step.targets {
                     obl_targets[t * rows + r] = Some(target);
+                }
+                step.worlds
+            } else {
+                Vec::new()
+            };
+            if lookahead {
+                for (i, &seat) in acting.iter().enumerate() {
+                    let r = i * p + seat as usize;
+                    if m[r * na + end] > 0.5 {
+                        // Under OBL, what END pays in the world drawn from the seat's belief
+                        // (the fictitious game its target comes from), never the true one.
+                        let game = self.env.game(i);
+                        end_rewards[t * rows + r] = match worlds.get(i) {
+                            Some(colours) => game
+                                .with_card_colours(colours)
+                                .map_err(|e| TrainError::Obl(format!("env {i}, step {t}: {e}")))?
+                                .end_reward(),
+                            None => game.end_reward(),
+                        } as f32;
+                    }
                 }
             }
             self.env.step_joint(&joint)?;

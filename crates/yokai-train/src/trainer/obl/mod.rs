@@ -2,9 +2,9 @@
 //! comes from a fictitious continuation (`crate::obl`), not from the real game.
 //!
 //! At step t, for the acting seat i of each game: draw a colouring from i's belief, apply
-//! i's action to the game recoloured so, let the previous level play until i is to act
-//! again (or the game ends), and bootstrap from the learner's value of i's memory after it
-//! has read its observations of those fictitious steps:
+//! i's action to the game recoloured so, let the partners play with the policy being
+//! learnt until i is to act again (or the game ends), and bootstrap from the learner's
+//! value of i's memory after it has read its observations of those fictitious steps:
 //!
 //! `target = Σ_{j<k} γʲ r'_j + γᵏ V(h'_k)` (no bootstrap where the game ended), where
 //! `h'_0` is i's state at t (after reading o_t) and `h'_{j+1} = GRU(h'_j, o'_{j+1})`.
@@ -14,20 +14,27 @@
 //! the critic learns the OBL value of the acting seats' histories only — the only values a
 //! target ever reads.
 //!
-//! Level 1 draws from the exact belief and plays level 0 (uniformly random) as partner;
-//! levels ≥ 2 draw from the belief model trained on the previous level and play the
-//! previous level's network as partner (`previous`).
+//! **Whose play is whose.** OBL's level ℓ is optimal assuming the past was played by
+//! π_{ℓ−1} and the future by π_ℓ itself (Hu et al. 2021; the paper's §4). The past enters
+//! through the belief only: level 1 draws from the exact belief of uniformly random play
+//! (π₀), levels ≥ 2 from the belief model trained on the previous level's self-play
+//! (`previous`). Everything after i's action, the partners' moves inside the continuation
+//! included, is the learner's: the reference implementation seats the learning network's
+//! own runner as every actor's fictitious partner (`pyhanabi/act_group.py`,
+//! `rlcc/r2d2_actor.cc`), and so does this one (`partners`).
 
 mod memory;
+mod partners;
 mod previous;
 
 pub(crate) use previous::PreviousLevel;
 
 use super::{tensor2, to_vec, TrainError, Trainer};
-use crate::network::{ActorCritic, Encoder, Recurrent};
+use crate::network::{shards_on, ActorCritic, Encoder, Recurrent};
 use crate::obl::{continue_all, first_hand_slots, sample_first_hand_consistent, Continuation};
+use burn::prelude::Device;
 use memory::{episode_states, step_along};
-use previous::Partners;
+use partners::Partners;
 use rand_chacha::rand_core::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use yokai_engine::{derive_seed, Colour, Game, Part, Seat};
@@ -36,19 +43,19 @@ use yokai_vec::{episode_seed, Encoding};
 impl<E: Encoder, M: Recurrent> Trainer<E, M> {
     /// The OBL value target of the acting row of every game at rollout step `t`, given each
     /// row's (true-frame) action in `joint`, the recurrent states after step t's observation
-    /// in `self.state.hidden`, and the rollout's shaping weight. Returns (row, target) pairs.
+    /// in `self.state.hidden`, and the rollout's shaping weight.
     pub(super) fn obl_targets(
         &self,
         net: &ActorCritic<E, M>,
         t: usize,
         joint: &[u32],
         shaping: f32,
-    ) -> Result<Vec<(usize, f32)>, TrainError> {
+    ) -> Result<OblStep, TrainError> {
         let p = self.game.players();
         let n = self.config.ppo.num_envs;
         let gamma = self.config.ppo.gamma;
-        let (l, hsz) = (self.obs_len, self.model.hidden_size());
-        // One stream per (run, update, step): beliefs and level-0 moves, in game order.
+        let hsz = self.model.hidden_size();
+        // One stream per (run, update, step): beliefs and partners' moves, in game order.
         let step = self.state.update * self.config.ppo.rollout_steps as u64 + t as u64;
         let mut rng = ChaCha8Rng::seed_from_u64(derive_seed(derive_seed(self.seed, 0x0B1), step));
         let mut partner_rng =
@@ -62,10 +69,6 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
                 .collect(),
             Some(previous) => self.sample_beliefs(previous, &mut rng)?,
         };
-        let partner_states = match &self.previous {
-            None => vec![Vec::new(); n],
-            Some(previous) => self.partner_memories(previous, &colourings)?,
-        };
         let starts: Vec<(&Game, &[Colour], usize)> = colourings
             .iter()
             .enumerate()
@@ -75,17 +78,27 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
                 (game, &colours[..], joint[row] as usize)
             })
             .collect();
-        let mut partners = match &self.previous {
-            None => Partners::Random(&mut partner_rng),
-            Some(previous) => Partners::Previous {
-                policy: &previous.policy,
-                seats: starts
-                    .iter()
-                    .map(|(g, _, _)| partners_of(g, g.current_seat()))
-                    .collect(),
-                states: partner_states,
-                rng: &mut partner_rng,
-            },
+        // Partners play only where the action ends the seat's turn and not the game (after
+        // OBSERVE or MOVE the seat acts again at once): only there are their memories built.
+        let seats: Vec<Vec<Seat>> = starts
+            .iter()
+            .map(|&(g, _, a)| {
+                let mut after = g.clone();
+                let done = after.apply_index(a).map(|s| s.done).unwrap_or(true);
+                if done || after.current_seat() == g.current_seat() {
+                    Vec::new()
+                } else {
+                    partners_of(g, g.current_seat())
+                }
+            })
+            .collect();
+        let dev = &self.infer_device;
+        let mut partners = Partners {
+            net,
+            device: dev,
+            states: self.partner_memories(net, &colourings, &seats)?,
+            seats,
+            rng: &mut partner_rng,
         };
         let continued = continue_all(
             &starts,
@@ -103,7 +116,6 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             .collect();
         // Each seat's memory reads its observations of the fictitious steps, from its state at
         // t; a continuation that ended needs no value, so its seat reads nothing.
-        let dev = &self.infer_device;
         let sequences: Vec<&[Game]> = runs.iter().map(|(_, _, c)| &c.states[..]).collect();
         let seats: Vec<Vec<Seat>> = runs
             .iter()
@@ -119,14 +131,7 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             &mut states,
             E::encoding(),
             false,
-            &mut |o, h, k| {
-                let rows = k.len();
-                to_vec(net.recur(
-                    tensor2(o, [rows, l], dev),
-                    tensor2(h, [rows, hsz], dev),
-                    tensor2(k, [rows, 1], dev),
-                ))
-            },
+            &mut |o, h, k| recur(net, o, h, k, dev),
         );
         // Bootstrap from the value where the seat acts again.
         let open: Vec<usize> = (0..runs.len()).filter(|&k| !runs[k].2.done).collect();
@@ -144,8 +149,20 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         for (m, &k) in open.iter().enumerate() {
             targets[k].1 += gamma.powi(runs[k].2.steps() as i32) * values[m];
         }
-        Ok(targets)
+        Ok(OblStep {
+            targets,
+            worlds: colourings,
+        })
     }
+}
+
+/// What OBL computed at one rollout step.
+pub(super) struct OblStep {
+    /// (row, value target) of every game's acting row.
+    pub targets: Vec<(usize, f32)>,
+    /// Per game, the card colours drawn from the acting seat's belief: the world its
+    /// fictitious continuation ran in, where the END term values ending too.
+    pub worlds: Vec<Vec<Colour>>,
 }
 
 /// Every seat of `game` but `seat`.
@@ -240,18 +257,28 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             .sample(&game, states, &obs, &adjacency, &first, rng))
     }
 
-    /// Levels ≥ 2: every partner seat's memory of the previous level, rebuilt by replaying
-    /// each game's episode in its fictitious colouring (`[partners × H]` per game).
+    /// The memories of the partner seats `seats[i]` of each game `i` in the learner's
+    /// network, rebuilt by replaying the game's episode in its fictitious colouring
+    /// (`[seats × H]` per game; nothing where `seats[i]` is empty).
+    ///
+    /// The real memories read the real colours of the cards each partner observed; in a
+    /// world drawn from the acting seat's belief those colours differ, so the real memory
+    /// would carry facts of the real world into the fictitious one. The reference
+    /// implementation (Hanabi) reuses the real memory, which is sound there only because its
+    /// LSTM reads public features alone. The replay costs one batched network step per step
+    /// of the episode so far, all games together.
     fn partner_memories(
         &self,
-        previous: &PreviousLevel,
+        net: &ActorCritic<E, M>,
         colourings: &[Vec<Colour>],
+        seats: &[Vec<Seat>],
     ) -> Result<Vec<Vec<f32>>, TrainError> {
-        let n = self.config.ppo.num_envs;
-        let policy = &previous.policy;
-        let mut episodes = Vec::with_capacity(n);
-        let mut seats = Vec::with_capacity(n);
+        let mut episodes = Vec::with_capacity(seats.len());
         for (i, colours) in colourings.iter().enumerate() {
+            if seats[i].is_empty() {
+                episodes.push(Vec::new());
+                continue;
+            }
             let (start, history) = self.episode_so_far(i);
             let start = start
                 .with_card_colours(colours)
@@ -265,23 +292,34 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
                 )));
             }
             episodes.push(replayed);
-            seats.push(partners_of(game, game.current_seat()));
         }
         let sequences: Vec<&[Game]> = episodes.iter().map(|e| &e[..]).collect();
-        let mut states: Vec<Vec<f32>> = seats
-            .iter()
-            .map(|s| vec![0.0; s.len() * policy.hidden_size()])
-            .collect();
+        let hsz = self.model.hidden_size();
+        let mut states: Vec<Vec<f32>> = seats.iter().map(|s| vec![0.0; s.len() * hsz]).collect();
+        let dev = &self.infer_device;
         step_along(
             &sequences,
-            &seats,
+            seats,
             &mut states,
-            policy.encoding(),
+            E::encoding(),
             true,
-            &mut |o, h, k| policy.recur_batch(o, h, k),
+            &mut |o, h, k| recur(net, o, h, k, dev),
         );
         Ok(states)
     }
+}
+
+/// One memory step of `net` for the rows of `obs`, `states` and `keep` (flat, as in
+/// [`ActorCritic::act`]), in one part per core.
+fn recur<E: Encoder, M: Recurrent>(
+    net: &ActorCritic<E, M>,
+    obs: Vec<f32>,
+    states: Vec<f32>,
+    keep: Vec<f32>,
+    device: &Device,
+) -> Vec<f32> {
+    net.act(&obs, &states, &keep, &[], device, shards_on(device))
+        .states
 }
 
 #[cfg(test)]
@@ -339,7 +377,7 @@ mod tests {
         let draws = 3000;
         let mut sums = [0f64; 8];
         for t in 0..draws {
-            let targets = trainer.obl_targets(&net, t, &joint, 1.0).unwrap();
+            let targets = trainer.obl_targets(&net, t, &joint, 1.0).unwrap().targets;
             assert_eq!(targets.len(), 8, "one target per game");
             for (row, target) in targets {
                 assert_eq!(row % 2, 0, "seat 0 acts first");
@@ -355,5 +393,88 @@ mod tests {
                 "game {i}: mean target {mean:.3}, exact {want:.3} (SE {se:.3})"
             );
         }
+    }
+
+    /// The partners' memories rebuilt by replaying each episode are the memories the
+    /// rollout built, when the colouring replayed is the true one: after a rollout (games
+    /// mid-episode and some just dealt), every partner seat's replayed memory equals its
+    /// row of the rollout's state once that has read the current observation.
+    #[test]
+    fn partner_memories_replayed_in_the_true_colours_are_the_real_ones() {
+        let mut c = config();
+        c.ppo.rollout_steps = 13;
+        let mut trainer = Trainer::<MlpEncoder>::new(c, 9).unwrap();
+        let mut rng = ChaCha8Rng::seed_from_u64(2);
+        trainer.collect(1.0, &mut rng).unwrap();
+        let net = trainer.model.valid();
+        let (rows, l, na) = (trainer.rows, trainer.obs_len, trainer.n_actions);
+        let (mut obs, mut masks) = (vec![0f32; rows * l], vec![0f32; rows * na]);
+        trainer.view(&mut obs, &mut masks);
+        let dev = trainer.infer_device.clone();
+        let real = net
+            .act(&obs, &trainer.state.hidden, &trainer.keeps(), &[], &dev, 1)
+            .states;
+        let truths: Vec<Vec<Colour>> = (0..8)
+            .map(|i| {
+                let g = trainer.env.game(i);
+                (0..g.config().cards())
+                    .map(|k| g.colour_of(Card(k as u8)))
+                    .collect()
+            })
+            .collect();
+        let seats: Vec<Vec<Seat>> = (0..8)
+            .map(|i| partners_of(trainer.env.game(i), trainer.env.game(i).current_seat()))
+            .collect();
+        let replayed = trainer.partner_memories(&net, &truths, &seats).unwrap();
+        let h = trainer.model.hidden_size();
+        let lengths: Vec<usize> = (0..8).map(|i| trainer.state.history[i].len()).collect();
+        assert!(
+            lengths.iter().any(|&n| n > 5),
+            "some episode is long: {lengths:?}"
+        );
+        for i in 0..8 {
+            let seat = seats[i][0].index();
+            let want = &real[(2 * i + seat) * h..][..h];
+            for (a, b) in replayed[i].iter().zip(want) {
+                assert!(
+                    (a - b).abs() < 1e-5,
+                    "game {i} (episode of {}): {a} vs {b}",
+                    lengths[i]
+                );
+            }
+        }
+    }
+
+    /// With the END term on, what END would pay at a rollout step is read in the world the
+    /// step's OBL continuation was drawn in, not on the true board: at the first step every
+    /// game's END reward is that world's R_END, and some differ from the true board's.
+    #[test]
+    fn the_end_term_values_ending_in_the_world_drawn_from_the_belief() {
+        let mut c = config();
+        c.ppo.end_lookahead = 0.5;
+        let drawn = Trainer::<MlpEncoder>::new(c.clone(), 5).unwrap();
+        let net = drawn.model.valid();
+        // The worlds depend on the games and the step's stream only, not on the actions.
+        let end = drawn.env.config().encode(Action::End) as u32;
+        let worlds = drawn
+            .obl_targets(&net, 0, &vec![end; drawn.rows], 1.0)
+            .unwrap()
+            .worlds;
+        let mut trainer = Trainer::<MlpEncoder>::new(c, 5).unwrap();
+        let truths: Vec<i32> = (0..8).map(|i| trainer.env.game(i).end_reward()).collect();
+        let mut rng = ChaCha8Rng::seed_from_u64(1);
+        let rollout = trainer.collect(1.0, &mut rng).unwrap();
+        let mut differ = 0;
+        for (i, colours) in worlds.iter().enumerate() {
+            let start = drawn.env.game(i);
+            let want = start.with_card_colours(colours).unwrap().end_reward();
+            let row = 2 * i + start.current_seat().index();
+            assert_eq!(rollout.end_rewards[row], want as f32, "game {i}");
+            differ += (want != truths[i]) as usize;
+        }
+        assert!(
+            differ > 0,
+            "every world paid what the true board pays: {truths:?}"
+        );
     }
 }
