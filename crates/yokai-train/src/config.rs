@@ -80,6 +80,12 @@ pub struct OblConfig {
     pub belief_updates: u64,
     /// Levels ≥ 2: width of the belief model's memory.
     pub belief_hidden: usize,
+    /// A diagnostic, not OBL (level 1 only): every continuation runs in the true colours
+    /// instead of a draw from the belief. The continuation is then the real transition, so
+    /// this is self-play with OBL's one-step targets: what the learning machinery reaches
+    /// when the belief grounds nothing away.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub oracle: bool,
 }
 
 impl Default for OblConfig {
@@ -89,6 +95,7 @@ impl Default for OblConfig {
             previous: None,
             belief_updates: 300,
             belief_hidden: 64,
+            oracle: false,
         }
     }
 }
@@ -601,6 +608,12 @@ impl TrainConfig {
                 "is needed from level 2 on: the previous level's policy (its run directory)",
             );
         }
+        if self.obl.oracle && self.obl.level != 1 {
+            return bad(
+                "obl.oracle",
+                "is a level-1 diagnostic (the true colours in place of the exact belief)",
+            );
+        }
         if self.obl.level < 2 && self.obl.previous.is_some() {
             return bad(
                 "obl.previous",
@@ -761,6 +774,11 @@ mod tests {
             TrainConfig::from_toml_str("[ppo]\nend_lookahead = 0.5\n[obl]\nlevel = 1\n", "x")
                 .is_ok()
         );
+        let e = refused(
+            "[obl]\nlevel = 2\nprevious = \"runs/x\"\noracle = true\n",
+            "x",
+        );
+        assert!(e.contains("obl.oracle") && e.contains("level-1"), "{e}");
         let e = refused("[ppo]\ncluster_shaping = 1.0\n[obl]\nlevel = 1\n", "x");
         assert!(e.contains("ppo.cluster_shaping"), "{e}");
         assert!(TrainConfig::from_toml_str("[obl]\nlevel = 1\n", "x").is_ok());

@@ -37,7 +37,7 @@ use memory::{episode_states, step_along};
 use partners::Partners;
 use rand_chacha::rand_core::SeedableRng;
 use rand_chacha::ChaCha8Rng;
-use yokai_engine::{derive_seed, Colour, Game, Part, Seat};
+use yokai_engine::{derive_seed, Card, Colour, Game, Part, Seat};
 use yokai_vec::{episode_seed, Encoding};
 
 impl<E: Encoder, M: Recurrent> Trainer<E, M> {
@@ -61,6 +61,9 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         let mut partner_rng =
             ChaCha8Rng::seed_from_u64(derive_seed(derive_seed(self.seed, 0x0B2), step));
         let colourings = match &self.previous {
+            None if self.config.obl.oracle => {
+                (0..n).map(|i| true_colours(self.env.game(i))).collect()
+            }
             None => (0..n)
                 .map(|i| {
                     let game = self.env.game(i);
@@ -163,6 +166,13 @@ pub(super) struct OblStep {
     /// Per game, the card colours drawn from the acting seat's belief: the world its
     /// fictitious continuation ran in, where the END term values ending too.
     pub worlds: Vec<Vec<Colour>>,
+}
+
+/// The colour of every card of `game`, by card id.
+fn true_colours(game: &Game) -> Vec<Colour> {
+    (0..game.config().cards())
+        .map(|k| game.colour_of(Card(k as u8)))
+        .collect()
 }
 
 /// Every seat of `game` but `seat`.
@@ -414,14 +424,7 @@ mod tests {
         let real = net
             .act(&obs, &trainer.state.hidden, &trainer.keeps(), &[], &dev, 1)
             .states;
-        let truths: Vec<Vec<Colour>> = (0..8)
-            .map(|i| {
-                let g = trainer.env.game(i);
-                (0..g.config().cards())
-                    .map(|k| g.colour_of(Card(k as u8)))
-                    .collect()
-            })
-            .collect();
+        let truths: Vec<Vec<Colour>> = (0..8).map(|i| true_colours(trainer.env.game(i))).collect();
         let seats: Vec<Vec<Seat>> = (0..8)
             .map(|i| partners_of(trainer.env.game(i), trainer.env.game(i).current_seat()))
             .collect();
@@ -443,6 +446,32 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// `obl.oracle` runs every continuation in the true colours, where the exact belief
+    /// draws other colourings.
+    #[test]
+    fn the_oracle_draws_the_true_colours() {
+        let worlds = |oracle: bool| {
+            let mut c = config();
+            c.obl.oracle = oracle;
+            let trainer = Trainer::<MlpEncoder>::new(c, 4).unwrap();
+            let end = trainer.env.config().encode(Action::End) as u32;
+            let net = trainer.model.valid();
+            let step = trainer
+                .obl_targets(&net, 0, &vec![end; trainer.rows], 1.0)
+                .unwrap();
+            let truths: Vec<Vec<Colour>> =
+                (0..8).map(|i| true_colours(trainer.env.game(i))).collect();
+            (step.worlds, truths)
+        };
+        let (drawn, truths) = worlds(true);
+        assert_eq!(drawn, truths);
+        let (drawn, truths) = worlds(false);
+        assert!(
+            drawn != truths,
+            "the exact belief drew the true colouring in all 8 games"
+        );
     }
 
     /// With the END term on, what END would pay at a rollout step is read in the world the
