@@ -199,7 +199,7 @@ fn train_and_evaluate(
          into {}, {jobs} at a time on {threads_per_job} thread(s) each",
         config.algorithm.name,
         format!("{:?}", config.network.preset).to_lowercase(),
-        format!("{:?}", config.network.encoder()).to_lowercase(),
+        config.network.encoder(),
         args.device,
         seeds,
         out.display()

@@ -157,12 +157,30 @@ pub enum EncoderKind {
     Gatv2,
     /// Self-attention between every pair of nodes (a relation module), 4 heads.
     Relation,
+    /// The paper's CNN twice, over the image's public and private (known-colour) channels:
+    /// OBL's public–private architecture (`network/public_private.rs`).
+    #[serde(rename = "public-private")]
+    PublicPrivate,
+}
+
+impl std::fmt::Display for EncoderKind {
+    /// The name a config file gives it (`network.encoder`).
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            EncoderKind::Cnn => "cnn",
+            EncoderKind::Mlp => "mlp",
+            EncoderKind::Gcn => "gcn",
+            EncoderKind::Gatv2 => "gatv2",
+            EncoderKind::Relation => "relation",
+            EncoderKind::PublicPrivate => "public-private",
+        })
+    }
 }
 
 impl EncoderKind {
     /// Whether the encoder reads the graph observation (which the pointer head needs too).
     pub fn reads_graph(self) -> bool {
-        self != EncoderKind::Cnn
+        !matches!(self, EncoderKind::Cnn | EncoderKind::PublicPrivate)
     }
 }
 
@@ -555,10 +573,11 @@ impl TrainConfig {
             return bad("network.hidden / network.filters", "must be at least 1");
         }
         let encoder = self.network.encoder();
-        if encoder == EncoderKind::Cnn && game.grid() < 9 {
+        if !encoder.reads_graph() && game.grid() < 9 {
             return bad(
                 "network.encoder",
-                "cnn (the paper preset's) needs a grid of at least 9×9 (four valid 3×3 convolutions)",
+                "cnn (the paper preset's) and public-private need a grid of at least 9×9 (four \
+                 valid 3×3 convolutions)",
             );
         }
         if self.network.head == ActionHead::Pointer && !encoder.reads_graph() {
@@ -728,7 +747,21 @@ mod tests {
             // It survives the round trip through the run's saved config.
             let again = TrainConfig::from_toml_str(&c.to_toml(), "e.toml").unwrap();
             assert_eq!(again.network.encoder(), kind);
+            assert_eq!(kind.to_string(), name, "the name a config gives it");
         }
+        // OBL's public–private encoder reads the image, as the paper's CNN does: the dense
+        // head, and the name with its hyphen round-trips.
+        let c = TrainConfig::from_toml_str("[network]\nencoder = \"public-private\"\n", "e.toml")
+            .unwrap();
+        assert_eq!(c.network.encoder(), EncoderKind::PublicPrivate);
+        assert_eq!(c.network.encoder().to_string(), "public-private");
+        let again = TrainConfig::from_toml_str(&c.to_toml(), "e.toml").unwrap();
+        assert_eq!(again.network.encoder(), EncoderKind::PublicPrivate);
+        let e = refused(
+            "[network]\nencoder = \"public-private\"\nhead = \"pointer\"\n",
+            "e.toml",
+        );
+        assert!(e.contains("network.head"), "{e}");
         let e = refused(
             "[network]\nencoder = \"cnn\"\nhead = \"pointer\"\n",
             "e.toml",

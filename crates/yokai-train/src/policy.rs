@@ -5,8 +5,8 @@ use crate::config::{ActConfig, EncoderKind, MemoryKind, TrainConfig};
 use crate::distribution::{decide_end_row, sample_row};
 use crate::file::Container;
 use crate::network::{
-    ActorCritic, CnnEncoder, Encoder, GraphEncoder, GruCell, MlpEncoder, Recurrent, SeatStep,
-    TransformerXl,
+    ActorCritic, CnnEncoder, Encoder, GraphEncoder, GruCell, MlpEncoder, PublicPrivateEncoder,
+    Recurrent, SeatStep, TransformerXl,
 };
 use crate::run::{CHECKPOINT, POLICY};
 use crate::trainer::{default_device, load_model, read_header, FileHeader, TrainError};
@@ -23,9 +23,11 @@ use yokai_vec::Encoding;
 #[derive(Clone, Debug)]
 enum Net {
     Cnn(Box<ActorCritic<CnnEncoder, GruCell>>),
+    PublicPrivate(Box<ActorCritic<PublicPrivateEncoder, GruCell>>),
     Mlp(Box<ActorCritic<MlpEncoder, GruCell>>),
     Graph(Box<ActorCritic<GraphEncoder, GruCell>>),
     CnnTrxl(Box<ActorCritic<CnnEncoder, TransformerXl>>),
+    PublicPrivateTrxl(Box<ActorCritic<PublicPrivateEncoder, TransformerXl>>),
     MlpTrxl(Box<ActorCritic<MlpEncoder, TransformerXl>>),
     GraphTrxl(Box<ActorCritic<GraphEncoder, TransformerXl>>),
 }
@@ -36,9 +38,11 @@ macro_rules! with_net {
     ($net:expr, $m:ident => $body:expr) => {
         match $net {
             Net::Cnn($m) => $body,
+            Net::PublicPrivate($m) => $body,
             Net::Mlp($m) => $body,
             Net::Graph($m) => $body,
             Net::CnnTrxl($m) => $body,
+            Net::PublicPrivateTrxl($m) => $body,
             Net::MlpTrxl($m) => $body,
             Net::GraphTrxl($m) => $body,
         }
@@ -131,9 +135,11 @@ impl TrainedPolicy {
         use EncoderKind::*;
         let net = match (config.network.encoder(), config.network.memory) {
             (Cnn, MemoryKind::Gru) => Net::Cnn(load!()),
+            (PublicPrivate, MemoryKind::Gru) => Net::PublicPrivate(load!()),
             (Mlp, MemoryKind::Gru) => Net::Mlp(load!()),
             (Gcn | Gatv2 | Relation, MemoryKind::Gru) => Net::Graph(load!()),
             (Cnn, MemoryKind::Trxl) => Net::CnnTrxl(load!()),
+            (PublicPrivate, MemoryKind::Trxl) => Net::PublicPrivateTrxl(load!()),
             (Mlp, MemoryKind::Trxl) => Net::MlpTrxl(load!()),
             (Gcn | Gatv2 | Relation, MemoryKind::Trxl) => Net::GraphTrxl(load!()),
         };

@@ -12,7 +12,8 @@
 use crate::backend::Backend;
 use crate::config::{EncoderKind, MemoryKind, TrainConfig};
 use crate::network::{
-    CnnEncoder, Encoder, GraphEncoder, GruCell, MlpEncoder, Recurrent, TransformerXl,
+    CnnEncoder, Encoder, GraphEncoder, GruCell, MlpEncoder, PublicPrivateEncoder, Recurrent,
+    TransformerXl,
 };
 use crate::trainer::{TrainError, Trainer, UpdateStats};
 use std::io::Write;
@@ -72,11 +73,17 @@ pub fn train_run(
     let network = &request.config.network;
     match (network.encoder(), network.memory) {
         (Cnn, MemoryKind::Gru) => run::<CnnEncoder, GruCell>(request, on_update),
+        (PublicPrivate, MemoryKind::Gru) => {
+            run::<PublicPrivateEncoder, GruCell>(request, on_update)
+        }
         (Mlp, MemoryKind::Gru) => run::<MlpEncoder, GruCell>(request, on_update),
         (Gcn | Gatv2 | Relation, MemoryKind::Gru) => {
             run::<GraphEncoder, GruCell>(request, on_update)
         }
         (Cnn, MemoryKind::Trxl) => run::<CnnEncoder, TransformerXl>(request, on_update),
+        (PublicPrivate, MemoryKind::Trxl) => {
+            run::<PublicPrivateEncoder, TransformerXl>(request, on_update)
+        }
         (Mlp, MemoryKind::Trxl) => run::<MlpEncoder, TransformerXl>(request, on_update),
         (Gcn | Gatv2 | Relation, MemoryKind::Trxl) => {
             run::<GraphEncoder, TransformerXl>(request, on_update)

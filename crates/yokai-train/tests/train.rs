@@ -349,7 +349,8 @@ fn a_run_directory_holds_config_metrics_checkpoint_and_a_playable_policy() {
     }
 }
 
-/// Each ablation network (graph encoders, Transformer-XL memory) trains through
+/// Each ablation network (graph encoders, Transformer-XL memory, the public–private
+/// encoder) trains through
 /// `train_run` with both Other-Play symmetries, resumes to the same parameters as a run
 /// without a stop (the Transformer-XL's window is part of the saved state), and loads as a
 /// policy whose every action in self-play is legal. A checkpoint of one network type is
@@ -365,8 +366,10 @@ fn ablation_networks_train_resume_exactly_and_play() {
         (EncoderKind::Mlp, MemoryKind::Trxl, false),
         (EncoderKind::Gatv2, MemoryKind::Trxl, false),
         (EncoderKind::Cnn, MemoryKind::Trxl, false),
-        // Off-Belief Learning (level 1: fictitious continuations) with both ablations.
+        // Off-Belief Learning (level 1: fictitious continuations) with both ablations, and
+        // with OBL's public–private encoder (the obl-9c-2p preset's).
         (EncoderKind::Relation, MemoryKind::Trxl, true),
+        (EncoderKind::PublicPrivate, MemoryKind::Gru, true),
     ] {
         let mut config = if obl {
             let mut c = tiny(SymmetrySet::None, 3);

@@ -121,7 +121,7 @@ impl Encoder for GraphEncoder {
                     back: init.linear(d, d, 1.0, device),
                     norm_mlp: LayerNormConfig::new(d).init(device),
                 }),
-                EncoderKind::Cnn | EncoderKind::Mlp => {
+                EncoderKind::Cnn | EncoderKind::Mlp | EncoderKind::PublicPrivate => {
                     unreachable!(
                         "train_run and TrainedPolicy build GraphEncoder for graph kinds only"
                     )

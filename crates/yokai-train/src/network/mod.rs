@@ -8,10 +8,12 @@
 mod board;
 mod graph;
 mod pointer;
+mod public_private;
 mod trxl;
 
 pub use graph::GraphEncoder;
 pub use pointer::PointerHead;
+pub use public_private::PublicPrivateEncoder;
 pub use trxl::TransformerXl;
 
 use crate::config::{ActionHead, EncoderKind, MemoryKind, NetworkConfig, TrainConfig};
@@ -69,12 +71,17 @@ impl Encoder for CnnEncoder {
         let [b, _] = obs.dims();
         let [h, w, c] = self.shape;
         // Channels-last image → channels-first for Conv2d.
-        let mut x: Tensor<4> = obs.reshape([b, h, w, c]).permute([0, 3, 1, 2]);
-        for conv in &self.convs {
-            x = relu(conv.forward(x));
-        }
-        x.reshape([b as i64, -1])
+        conv_stack(&self.convs, obs.reshape([b, h, w, c]).permute([0, 3, 1, 2]))
     }
+}
+
+/// `x` `[B, C, H, W]` through `convs`, each followed by a ReLU, flattened to `[B, F]`.
+fn conv_stack(convs: &[Conv2d], mut x: Tensor<4>) -> Tensor<2> {
+    let [b, ..] = x.dims();
+    for conv in convs {
+        x = relu(conv.forward(x));
+    }
+    x.reshape([b as i64, -1])
 }
 
 /// The compact encoder: one small MLP shared by every node (card or hint slot) of the
