@@ -60,7 +60,7 @@ impl ActConfig {
 
 /// Off-Belief Learning (docs/training.md): the value target of each of a seat's actions
 /// comes from a fictitious continuation in a world drawn from the seat's belief (of the
-/// previous level's play), played on by the policy being learnt.
+/// previous level's play), the partners played by `partner`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct OblConfig {
@@ -86,6 +86,22 @@ pub struct OblConfig {
     /// when the belief grounds nothing away.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub oracle: bool,
+    /// Who plays the partners' turns inside the fictitious continuations.
+    pub partner: OblPartner,
+}
+
+/// Who plays the partners inside OBL's fictitious continuations (`obl.partner`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum OblPartner {
+    /// The level below (uniformly random play at level 1, `obl.previous` above): the
+    /// project's training spec (docs/spec/training.md, row OBL).
+    #[default]
+    Previous,
+    /// The policy being learnt, as the reference implementation plays it (all actors of a
+    /// game share the learning network's runner, `pyhanabi/act_group.py`) and as OBL's
+    /// operator reads ("future actions will follow π_ℓ", the paper's §4).
+    Learner,
 }
 
 impl Default for OblConfig {
@@ -96,6 +112,7 @@ impl Default for OblConfig {
             belief_updates: 300,
             belief_hidden: 64,
             oracle: false,
+            partner: OblPartner::Previous,
         }
     }
 }
@@ -812,6 +829,16 @@ mod tests {
             "x",
         );
         assert!(e.contains("obl.oracle") && e.contains("level-1"), "{e}");
+        let c =
+            TrainConfig::from_toml_str("[obl]\nlevel = 1\npartner = \"learner\"\n", "x").unwrap();
+        assert_eq!(c.obl.partner, OblPartner::Learner);
+        assert_eq!(
+            TrainConfig::default().obl.partner,
+            OblPartner::Previous,
+            "the spec's rule"
+        );
+        let e = refused("[obl]\nlevel = 1\npartner = \"me\"\n", "x");
+        assert!(e.contains("partner"), "{e}");
         let e = refused("[ppo]\ncluster_shaping = 1.0\n[obl]\nlevel = 1\n", "x");
         assert!(e.contains("ppo.cluster_shaping"), "{e}");
         assert!(TrainConfig::from_toml_str("[obl]\nlevel = 1\n", "x").is_ok());

@@ -17,8 +17,8 @@ pub mod trainer;
 
 pub use backend::{Backend, BackendError};
 pub use config::{
-    ActionHead, EncoderKind, EndForm, MemoryKind, NetworkPreset, SymmetrySet, TrainConfig,
-    TrainConfigError,
+    ActionHead, EncoderKind, EndForm, MemoryKind, NetworkPreset, OblPartner, SymmetrySet,
+    TrainConfig, TrainConfigError,
 };
 pub use file::{Container, FileError};
 pub use network::{

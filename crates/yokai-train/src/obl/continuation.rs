@@ -1,5 +1,5 @@
 //! One fictitious continuation: a seat's action in a world drawn from its belief, then the
-//! partners' play (the policy being learnt) until the seat is to act again.
+//! partners' play until the seat is to act again.
 //!
 //! How far it runs (docs/training.md): a turn is four substeps of one seat, so after the
 //! seat's OBSERVE or MOVE it acts again at once (one step), and after its REVEAL or PLACE

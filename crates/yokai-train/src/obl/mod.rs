@@ -3,11 +3,12 @@
 //! OBL grounds a seat's actions in what they do in a world drawn from the seat's *belief*
 //! rather than in the real one: at each of its decisions the seat's action is applied to a
 //! fictitious game (the real public state with card colours sampled from the belief) and
-//! the policy being learnt plays on until the seat is to act again. The reward and the
-//! value target of the action come from that continuation, while the real game goes on
-//! with the real colours. The belief is that of the previous level's play, so a convention
-//! the previous level does not follow earns nothing: level 1 — whose previous level π₀ is
-//! uniformly random — learns grounded play only.
+//! the partners play on (the level below, or with `obl.partner = "learner"` the policy being
+//! learnt) until the seat is to act again. The reward and the value target of the action
+//! come from that continuation, while the real game goes on with the real colours. The
+//! belief is that of the previous level's play, so a convention the previous level does not
+//! follow earns nothing: level 1 — whose previous level π₀ is uniformly random — learns
+//! grounded play only.
 //!
 //! - [`belief`]: level 1's belief, exact: uniform over the colourings consistent with the
 //!   seat's first-hand colours and the colour counts.
@@ -16,8 +17,8 @@
 //!   decoder that keeps the counts and first-hand colours), and [`learn`]: its training on
 //!   the level below, measured against the exact belief of level 0.
 //!
-//! The trainer's use of them (the fictitious value targets in a PPO rollout, the learner's
-//! network as the partners) is in `trainer/obl/`.
+//! The trainer's use of them (the fictitious value targets in a PPO rollout, who plays the
+//! partners) is in `trainer/obl/`.
 
 pub mod belief;
 pub mod continuation;

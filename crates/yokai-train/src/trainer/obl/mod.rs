@@ -2,8 +2,8 @@
 //! comes from a fictitious continuation (`crate::obl`), not from the real game.
 //!
 //! At step t, for the acting seat i of each game: draw a colouring from i's belief, apply
-//! i's action to the game recoloured so, let the partners play with the policy being
-//! learnt until i is to act again (or the game ends), and bootstrap from the learner's
+//! i's action to the game recoloured so, let the partners play (`obl.partner`, below)
+//! until i is to act again (or the game ends), and bootstrap from the learner's
 //! value of i's memory after it has read its observations of those fictitious steps:
 //!
 //! `target = Σ_{j<k} γʲ r'_j + γᵏ V(h'_k)` (no bootstrap where the game ended), where
@@ -14,14 +14,14 @@
 //! the critic learns the OBL value of the acting seats' histories only — the only values a
 //! target ever reads.
 //!
-//! **Whose play is whose.** OBL's level ℓ is optimal assuming the past was played by
-//! π_{ℓ−1} and the future by π_ℓ itself (Hu et al. 2021; the paper's §4). The past enters
-//! through the belief only: level 1 draws from the exact belief of uniformly random play
-//! (π₀), levels ≥ 2 from the belief model trained on the previous level's self-play
-//! (`previous`). Everything after i's action, the partners' moves inside the continuation
-//! included, is the learner's: the reference implementation seats the learning network's
-//! own runner as every actor's fictitious partner (`pyhanabi/act_group.py`,
-//! `rlcc/r2d2_actor.cc`), and so does this one (`partners`).
+//! **Who plays the partners** (`obl.partner`). The project's training spec (docs/spec/
+//! training.md, row OBL) has the level below play on in the continuation: uniformly random
+//! play at level 1, the previous level's network above (`previous`); that is the default.
+//! OBL's operator as the paper states it ("future actions will follow π_ℓ", §4) and the
+//! reference implementation (every actor of a game shares the learning network's runner,
+//! `pyhanabi/act_group.py`; `rlcc/r2d2_actor.cc` asks it for the partner's fictitious move)
+//! have the policy being learnt play them: `obl.partner = "learner"`. The past enters
+//! through the belief either way.
 
 mod memory;
 mod partners;
@@ -30,6 +30,7 @@ mod previous;
 pub(crate) use previous::PreviousLevel;
 
 use super::{tensor2, to_vec, TrainError, Trainer};
+use crate::config::OblPartner;
 use crate::network::{shards_on, ActorCritic, Encoder, Recurrent};
 use crate::obl::{continue_all, first_hand_slots, sample_first_hand_consistent, Continuation};
 use burn::prelude::Device;
@@ -96,12 +97,42 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             })
             .collect();
         let dev = &self.infer_device;
-        let mut partners = Partners {
-            net,
-            device: dev,
-            states: self.partner_memories(net, &colourings, &seats)?,
-            seats,
-            rng: &mut partner_rng,
+        let learner =
+            |rows: &[(&Game, Seat)], states, keep| net.step_seats(rows, states, keep, dev);
+        let previous = self.previous.as_ref().map(|p| &p.policy);
+        let below = |rows: &[(&Game, Seat)], states, keep| {
+            previous
+                .expect("a level ≥ 2 run has a previous level")
+                .step_seats(rows, states, keep)
+        };
+        let mut partners = match (self.config.obl.partner, previous) {
+            (OblPartner::Previous, None) => Partners::Random(&mut partner_rng),
+            (OblPartner::Previous, Some(policy)) => Partners::Network {
+                step: &below,
+                hidden: policy.hidden_size(),
+                states: self.partner_memories(
+                    &mut |o, h, k| policy.recur_batch(o, h, k),
+                    policy.encoding(),
+                    policy.hidden_size(),
+                    &colourings,
+                    &seats,
+                )?,
+                seats,
+                rng: &mut partner_rng,
+            },
+            (OblPartner::Learner, _) => Partners::Network {
+                step: &learner,
+                hidden: hsz,
+                states: self.partner_memories(
+                    &mut |o, h, k| recur(net, o, h, k, dev),
+                    E::encoding(),
+                    hsz,
+                    &colourings,
+                    &seats,
+                )?,
+                seats,
+                rng: &mut partner_rng,
+            },
         };
         let continued = continue_all(
             &starts,
@@ -267,8 +298,9 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             .sample(&game, states, &obs, &adjacency, &first, rng))
     }
 
-    /// The memories of the partner seats `seats[i]` of each game `i` in the learner's
-    /// network, rebuilt by replaying the game's episode in its fictitious colouring
+    /// The memories of the partner seats `seats[i]` of each game `i` in the partners'
+    /// network (its memory step `recur`, its observation `encoding`, memories of width
+    /// `hidden`), rebuilt by replaying the game's episode in its fictitious colouring
     /// (`[seats × H]` per game; nothing where `seats[i]` is empty).
     ///
     /// The real memories read the real colours of the cards each partner observed; in a
@@ -279,7 +311,9 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
     /// of the episode so far, all games together.
     fn partner_memories(
         &self,
-        net: &ActorCritic<E, M>,
+        recur: &mut dyn FnMut(Vec<f32>, Vec<f32>, Vec<f32>) -> Vec<f32>,
+        encoding: Encoding,
+        hidden: usize,
         colourings: &[Vec<Colour>],
         seats: &[Vec<Seat>],
     ) -> Result<Vec<Vec<f32>>, TrainError> {
@@ -304,17 +338,8 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             episodes.push(replayed);
         }
         let sequences: Vec<&[Game]> = episodes.iter().map(|e| &e[..]).collect();
-        let hsz = self.model.hidden_size();
-        let mut states: Vec<Vec<f32>> = seats.iter().map(|s| vec![0.0; s.len() * hsz]).collect();
-        let dev = &self.infer_device;
-        step_along(
-            &sequences,
-            seats,
-            &mut states,
-            E::encoding(),
-            true,
-            &mut |o, h, k| recur(net, o, h, k, dev),
-        );
+        let mut states: Vec<Vec<f32>> = seats.iter().map(|s| vec![0.0; s.len() * hidden]).collect();
+        step_along(&sequences, seats, &mut states, encoding, true, recur);
         Ok(states)
     }
 }
@@ -428,8 +453,16 @@ mod tests {
         let seats: Vec<Vec<Seat>> = (0..8)
             .map(|i| partners_of(trainer.env.game(i), trainer.env.game(i).current_seat()))
             .collect();
-        let replayed = trainer.partner_memories(&net, &truths, &seats).unwrap();
         let h = trainer.model.hidden_size();
+        let replayed = trainer
+            .partner_memories(
+                &mut |o, s, k| recur(&net, o, s, k, &dev),
+                MlpEncoder::encoding(),
+                h,
+                &truths,
+                &seats,
+            )
+            .unwrap();
         let lengths: Vec<usize> = (0..8).map(|i| trainer.state.history[i].len()).collect();
         assert!(
             lengths.iter().any(|&n| n > 5),
@@ -446,6 +479,52 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// `obl.partner` decides who plays the partners: where the seat's action ends its turn
+    /// (substep 3) the partners move inside the continuation and the targets differ between
+    /// random play (the level below level 1) and the learner; where the seat acts again at
+    /// once (MOVE) they are the same.
+    #[test]
+    fn obl_partner_chooses_who_plays_the_partners() {
+        use crate::config::OblPartner;
+        use yokai_engine::Substep;
+        // After `steps` rollout steps from the deals, one legal action of every game.
+        let targets = |partner: OblPartner, steps: usize| {
+            let mut c = config();
+            c.ppo.rollout_steps = steps;
+            c.obl.partner = partner;
+            let mut trainer = Trainer::<MlpEncoder>::new(c, 6).unwrap();
+            trainer
+                .collect(1.0, &mut ChaCha8Rng::seed_from_u64(3))
+                .unwrap();
+            let mut joint = vec![0u32; trainer.rows];
+            let mut ends_turn = Vec::new();
+            for i in 0..8 {
+                let g = trainer.env.game(i);
+                let seat = g.current_seat();
+                joint[2 * i + seat.index()] = g.config().encode(g.legal_actions(seat)[0]) as u32;
+                ends_turn.push(g.substep() == Substep::Hint);
+            }
+            let net = trainer.model.valid();
+            let step = trainer.obl_targets(&net, 0, &joint, 1.0).unwrap();
+            (step.targets, ends_turn)
+        };
+        // Three steps in: every game is at its first REVEAL/PLACE.
+        let (below, ends_turn) = targets(OblPartner::Previous, 3);
+        let (learner, _) = targets(OblPartner::Learner, 3);
+        assert!(ends_turn.iter().all(|&e| e), "{ends_turn:?}");
+        for i in 0..8 {
+            assert_ne!(
+                below[i].1, learner[i].1,
+                "game {i}: the partners' play made no difference"
+            );
+        }
+        // Two steps in, at MOVE: the seat acts again at once, no partner moves.
+        let (below, ends_turn) = targets(OblPartner::Previous, 2);
+        let (learner, _) = targets(OblPartner::Learner, 2);
+        assert!(ends_turn.iter().all(|&e| !e), "{ends_turn:?}");
+        assert_eq!(below, learner);
     }
 
     /// `obl.oracle` runs every continuation in the true colours, where the exact belief

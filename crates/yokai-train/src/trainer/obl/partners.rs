@@ -1,55 +1,74 @@
-//! The partners' moves inside OBL's fictitious continuations: the policy being learnt,
-//! with each partner seat's memory rebuilt in the fictitious world (`partner_memories`).
+//! The partners' moves inside OBL's fictitious continuations (`obl.partner`): the level
+//! below (the spec's rule: uniformly random play at level 1, the previous level's network
+//! above) or the policy being learnt (the reference implementation's), with each partner
+//! seat's memory rebuilt in the fictitious world (`partner_memories`).
 
 use crate::distribution::sample_legal;
-use crate::network::{ActorCritic, Encoder, Recurrent};
-use burn::prelude::*;
+use crate::network::SeatStep;
+use crate::obl::continuation::random_legal;
 use rand_chacha::ChaCha8Rng;
 use yokai_engine::{Game, Seat};
 
-/// Who plays the partners' turns in the fictitious continuations of one rollout step: the
-/// learner's network `net`, per continuation its partner seats and their memories
-/// (`[seats × H]`). Every partner seat's memory reads each state; the acting one samples
-/// from its logits, as the rollout's seats do.
-pub(super) struct Partners<'a, E: Encoder, M: Recurrent> {
-    pub net: &'a ActorCritic<E, M>,
-    pub device: &'a Device,
-    pub seats: Vec<Vec<Seat>>,
-    pub states: Vec<Vec<f32>>,
-    pub rng: &'a mut ChaCha8Rng,
+/// One network step for seats of games, their memories and `keep` flags
+/// ([`crate::network::ActorCritic::step_seats`] of whichever network plays the partners).
+pub(super) type StepSeats<'a> = dyn Fn(&[(&Game, Seat)], Vec<f32>, Vec<f32>) -> SeatStep + 'a;
+
+/// Who plays the partners' turns in the fictitious continuations of one rollout step.
+pub(super) enum Partners<'a> {
+    /// Level 0 below level 1: uniformly random legal play.
+    Random(&'a mut ChaCha8Rng),
+    /// A network (`step`, memories of width `hidden`): per continuation, its partner seats
+    /// and their memories (`[seats × H]`). Every partner seat's memory reads each state; the
+    /// acting one samples from its logits, as the rollout's seats do.
+    Network {
+        step: &'a StepSeats<'a>,
+        hidden: usize,
+        seats: Vec<Vec<Seat>>,
+        states: Vec<Vec<f32>>,
+        rng: &'a mut ChaCha8Rng,
+    },
 }
 
-impl<E: Encoder, M: Recurrent> Partners<'_, E, M> {
+impl Partners<'_> {
     /// The acting seat's action index in each of `games`, the fictitious games of the
-    /// continuations `which` (a partner of the seat each continuation is for). The network
+    /// continuations `which` (a partner of the seat each continuation is for). A network
     /// steps every partner seat of them in one batch.
     pub fn act(&mut self, which: &[usize], games: &[&Game]) -> Vec<usize> {
-        let rows: Vec<(&Game, Seat)> = which
-            .iter()
-            .zip(games)
-            .flat_map(|(&k, &g)| self.seats[k].iter().map(move |&s| (g, s)))
-            .collect();
-        let memories = which
-            .iter()
-            .flat_map(|&k| std::mem::take(&mut self.states[k]))
-            .collect();
-        let stepped = self
-            .net
-            .step_seats(&rows, memories, vec![1.0; rows.len()], self.device);
-        let h = self.net.hidden_size();
-        let mut at = 0;
-        let mut actions = Vec::with_capacity(games.len());
-        for (&k, &game) in which.iter().zip(games) {
-            let m = self.seats[k].len();
-            self.states[k] = stepped.states[at * h..(at + m) * h].to_vec();
-            let j = self.seats[k]
-                .iter()
-                .position(|&s| s == game.current_seat())
-                .expect("the continuation asks only for partners' actions");
-            let logits = stepped.logits(at + j).expect("the acting seat");
-            actions.push(sample_legal(game, logits, self.rng));
-            at += m;
+        match self {
+            Partners::Random(rng) => games.iter().map(|g| random_legal(g, rng)).collect(),
+            Partners::Network {
+                step,
+                hidden,
+                seats,
+                states,
+                rng,
+            } => {
+                let rows: Vec<(&Game, Seat)> = which
+                    .iter()
+                    .zip(games)
+                    .flat_map(|(&k, &g)| seats[k].iter().map(move |&s| (g, s)))
+                    .collect();
+                let memories = which
+                    .iter()
+                    .flat_map(|&k| std::mem::take(&mut states[k]))
+                    .collect();
+                let stepped = step(&rows, memories, vec![1.0; rows.len()]);
+                let h = *hidden;
+                let mut at = 0;
+                let mut actions = Vec::with_capacity(games.len());
+                for (&k, &game) in which.iter().zip(games) {
+                    let m = seats[k].len();
+                    states[k] = stepped.states[at * h..(at + m) * h].to_vec();
+                    let j = seats[k]
+                        .iter()
+                        .position(|&s| s == game.current_seat())
+                        .expect("the continuation asks only for partners' actions");
+                    let logits = stepped.logits(at + j).expect("the acting seat");
+                    actions.push(sample_legal(game, logits, rng));
+                    at += m;
+                }
+                actions
+            }
         }
-        actions
     }
 }

@@ -1,5 +1,6 @@
-//! OBL levels ≥ 2: the belief model trained on the previous level's self-play. (The
-//! partners inside the fictitious continuations are the learner's own, `partners`.)
+//! OBL levels ≥ 2: the previous level, whose self-play the belief model is trained on and
+//! which plays the partners inside the fictitious continuations unless `obl.partner` is
+//! `learner` (`partners`).
 //!
 //! **The belief** conditions on the acting seat's real history: every row's belief memory
 //! steps on the row's real observation at every rollout step (`step_belief_memory`) and is
@@ -16,8 +17,9 @@ use yokai_engine::{derive_seed, Config};
 /// Updates at the end of the belief's training whose figures are averaged for the report.
 const REPORTED_UPDATES: u64 = 20;
 
-/// The level below a level ≥ 2 run: the belief trained on its games.
+/// The level below a level ≥ 2 run: its policy and the belief trained on its games.
 pub(crate) struct PreviousLevel {
+    pub policy: TrainedPolicy,
     pub belief: BeliefModel,
     /// The belief's figures over its last `REPORTED_UPDATES` training updates (each
     /// measured on its rollout before learning from it).
@@ -45,7 +47,7 @@ impl PreviousLevel {
         let mut trainer = BeliefTrainer::new(
             *game,
             belief_config,
-            LevelBelow::Network(Box::new(policy)),
+            LevelBelow::Network(Box::new(policy.clone())),
             derive_seed(seed, 0xB0B),
             device.clone(),
         )?;
@@ -56,6 +58,7 @@ impl PreviousLevel {
         let stats: Vec<BeliefStats> = (0..updates).map(|_| trainer.update()).collect();
         let belief_stats = BeliefStats::mean(stats[(updates - tail) as usize..].iter().copied());
         Ok(PreviousLevel {
+            policy,
             belief: trainer.into_model(),
             belief_stats,
         })
