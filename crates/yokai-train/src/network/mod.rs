@@ -57,10 +57,7 @@ impl Encoder for CnnEncoder {
     fn new(config: &TrainConfig, game: &Config, init: &mut Init, device: &Device) -> Self {
         let shape = game.image_shape(Part::Full);
         let f = config.network.filters;
-        let gain = std::f64::consts::SQRT_2;
-        let convs = (0..4)
-            .map(|i| init.conv3x3(if i == 0 { shape[2] } else { f }, f, gain, device))
-            .collect();
+        let convs = conv_layers(init, shape[2], f, device);
         let out = (shape[0] - 8) * (shape[1] - 8) * f;
         CnnEncoder { convs, shape, out }
     }
@@ -73,6 +70,14 @@ impl Encoder for CnnEncoder {
         // Channels-last image → channels-first for Conv2d.
         conv_stack(&self.convs, obs.reshape([b, h, w, c]).permute([0, 3, 1, 2]))
     }
+}
+
+/// The paper's four 3×3 convolutions (`filters` each, valid padding) over `c_in` channels.
+fn conv_layers(init: &mut Init, c_in: usize, filters: usize, device: &Device) -> Vec<Conv2d> {
+    let gain = std::f64::consts::SQRT_2;
+    (0..4)
+        .map(|i| init.conv3x3(if i == 0 { c_in } else { filters }, filters, gain, device))
+        .collect()
 }
 
 /// `x` `[B, C, H, W]` through `convs`, each followed by a ReLU, flattened to `[B, F]`.

@@ -7,7 +7,7 @@
 //! Why two encoders: what a seat knows privately is exactly what OBL's fictitious worlds
 //! redraw, so the network keeps it apart from what every seat sees alike until the memory.
 
-use super::{conv_stack, Encoder};
+use super::{conv_layers, conv_stack, Encoder};
 use crate::config::{EncoderKind, TrainConfig};
 use crate::init::Init;
 use burn::module::Module;
@@ -41,14 +41,8 @@ impl Encoder for PublicPrivateEncoder {
         let shape = game.image_shape(Part::Full);
         let colours = game.image_shape(Part::Private)[2];
         let f = config.network.filters;
-        let gain = std::f64::consts::SQRT_2;
-        let mut stack = |c_in: usize| -> Vec<Conv2d> {
-            (0..4)
-                .map(|i| init.conv3x3(if i == 0 { c_in } else { f }, f, gain, device))
-                .collect()
-        };
-        let public = stack(shape[2] - colours);
-        let private = stack(colours);
+        let public = conv_layers(init, shape[2] - colours, f, device);
+        let private = conv_layers(init, colours, f, device);
         let out = 2 * (shape[0] - 8) * (shape[1] - 8) * f;
         PublicPrivateEncoder {
             public,
