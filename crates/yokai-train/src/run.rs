@@ -4,6 +4,8 @@
 //! RUN/config.toml      the resolved training config (every field)
 //! RUN/game.toml        the resolved game config
 //! RUN/metrics.jsonl    one JSON line per logged update (step, SPS, R, win, SEE, EE, WEE, LEN, losses, entropy)
+//! RUN/belief.jsonl     OBL levels ≥ 2: one JSON line per update of the belief model (its
+//!                      cross-entropy and the first-hand baseline's, nats per unseen card)
 //! RUN/checkpoint.ykc   network, optimiser and loop state, replaced atomically
 //! RUN/policy.ykp       the final policy, loadable by `yokai eval` and Python
 //! RUN/replays/         at every checkpoint, the last finished training game of env 0
@@ -22,6 +24,7 @@ use std::path::{Path, PathBuf};
 pub const CHECKPOINT: &str = "checkpoint.ykc";
 pub const POLICY: &str = "policy.ykp";
 pub const METRICS: &str = "metrics.jsonl";
+pub const BELIEF_METRICS: &str = "belief.jsonl";
 
 /// What a finished (or stopped) run reports.
 #[derive(Clone, Debug)]
@@ -150,6 +153,21 @@ fn run<E: Encoder, M: Recurrent>(
         write(&metrics_path, "")?;
         t
     };
+    // The belief is trained anew, identically, on every start and resume: its curve is
+    // written each time.
+    if let Some(curve) = trainer.belief_curve() {
+        let path = dir.join(BELIEF_METRICS);
+        let lines: String = curve
+            .iter()
+            .enumerate()
+            .map(|(k, s)| {
+                let mut v = serde_json::to_value(s).expect("belief stats serialise");
+                v["update"] = serde_json::json!(k + 1);
+                format!("{v}\n")
+            })
+            .collect();
+        write(&path, &lines)?;
+    }
     let total = trainer.config().updates();
     let steps_before = trainer.env_steps();
     let mut log = std::fs::OpenOptions::new()

@@ -280,6 +280,68 @@ fn resume_continues_exactly_like_an_uninterrupted_run() {
     }
 }
 
+/// An OBL level-2 run logs its belief model's training, one line per update, in
+/// `belief.jsonl`: the figures the run reports are the slot-weighted mean of the last 20
+/// lines, and a resume (which retrains the belief identically) writes the same file.
+#[test]
+fn an_obl_run_logs_its_belief_curve() {
+    let tmp = tempdir("belief-curve");
+    let mut level1 = tiny(SymmetrySet::None, 1);
+    level1.obl.level = 1;
+    let mut level2 = level1.clone();
+    level2.obl.level = 2;
+    level2.obl.previous = Some(tmp.path().join("level-1"));
+    level2.obl.belief_updates = 25;
+    level2.obl.belief_hidden = 8;
+    level2.ppo.total_steps *= 2;
+    let train = |config: &TrainConfig, name: &str, resume: bool, max_updates: Option<u64>| {
+        let request = RunRequest {
+            config,
+            seed: 2,
+            dir: &tmp.path().join(name),
+            resume,
+            max_updates,
+            backend: yokai_train::Backend::Cpu,
+        };
+        one_thread(|| train_run(&request, &mut |_, _| {})).unwrap()
+    };
+    train(&level1, "level-1", false, None);
+    let summary = train(&level2, "level-2", false, Some(1));
+    let path = tmp.path().join("level-2").join("belief.jsonl");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let lines: Vec<serde_json::Value> = text
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(lines.len(), 25);
+    for (k, line) in lines.iter().enumerate() {
+        assert_eq!(line["update"], k + 1);
+        let (ce, base) = (
+            line["cross_entropy"].as_f64().unwrap(),
+            line["first_hand_baseline"].as_f64().unwrap(),
+        );
+        assert!(ce > 0.0 && base > 0.0 && ce < 3.0 && base < 3.0, "{line}");
+    }
+    let tail = &lines[5..];
+    let slots: f64 = tail.iter().map(|l| l["slots"].as_f64().unwrap()).sum();
+    let mean = tail
+        .iter()
+        .map(|l| l["cross_entropy"].as_f64().unwrap() * l["slots"].as_f64().unwrap())
+        .sum::<f64>()
+        / slots;
+    let reported = summary.last.unwrap().obl_belief_cross_entropy.unwrap();
+    assert!(
+        (mean - reported).abs() < 1e-9,
+        "file {mean}, reported {reported}"
+    );
+    train(&level2, "level-2", true, None);
+    assert_eq!(
+        std::fs::read_to_string(&path).unwrap(),
+        text,
+        "the resume's curve"
+    );
+}
+
 #[test]
 fn a_run_directory_holds_config_metrics_checkpoint_and_a_playable_policy() {
     let tmp = tempdir("run");

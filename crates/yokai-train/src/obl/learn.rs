@@ -70,18 +70,20 @@ impl BeliefTrainConfig {
 }
 
 /// One update's figures (or several updates', [`BeliefStats::mean`]), in nats per unseen
-/// card.
-#[derive(Clone, Copy, Debug, Default)]
+/// card. A level ≥ 2 run logs every update's in `RUN/belief.jsonl`.
+#[derive(Clone, Copy, Debug, Default, serde::Serialize)]
 pub struct BeliefStats {
     /// The model's cross-entropy of the true colours.
     pub cross_entropy: f64,
     /// The exact level-0 belief's cross-entropy on the same slots: the baseline a belief
     /// of a level that follows conventions must beat.
+    #[serde(rename = "first_hand_baseline")]
     pub uniform_cross_entropy: f64,
     /// KL(exact level-0 conditional ‖ model conditional), averaged over the slots: with the
     /// true colours before each slot drawn from the exact belief (level-0 data), its sum
     /// over a seat's slots is the KL of the whole colouring (chain rule). Only meaningful
     /// on level-0 data.
+    #[serde(rename = "kl_from_first_hand")]
     pub uniform_kl: f64,
     /// Slots (unseen cards of a seat at a step) the figures average over.
     pub slots: usize,

@@ -267,6 +267,11 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
     pub fn seed(&self) -> u64 {
         self.seed
     }
+    /// OBL levels ≥ 2: the belief model's figures at each of its training updates.
+    pub fn belief_curve(&self) -> Option<&[crate::obl::learn::BeliefStats]> {
+        self.previous.as_ref().map(|p| &p.belief_curve[..])
+    }
+
     pub fn update_count(&self) -> u64 {
         self.state.update
     }

@@ -24,6 +24,8 @@ pub(crate) struct PreviousLevel {
     /// The belief's figures over its last `REPORTED_UPDATES` training updates (each
     /// measured on its rollout before learning from it).
     pub belief_stats: BeliefStats,
+    /// Every training update's figures, in order: the belief's learning curve.
+    pub belief_curve: Vec<BeliefStats>,
 }
 
 impl PreviousLevel {
@@ -61,6 +63,7 @@ impl PreviousLevel {
             policy,
             belief: trainer.into_model(),
             belief_stats,
+            belief_curve: stats,
         })
     }
 }
