@@ -3,11 +3,14 @@
 //! above) or the policy being learnt (the reference implementation's), with each partner
 //! seat's memory rebuilt in the fictitious world (`partner_memories`).
 
+use super::memory::{episode_states, step_along};
 use crate::distribution::sample_legal;
-use crate::network::SeatStep;
+use crate::network::{Encoder, Recurrent, SeatStep};
 use crate::obl::continuation::random_legal;
+use crate::trainer::{TrainError, Trainer};
 use rand_chacha::ChaCha8Rng;
-use yokai_engine::{Game, Seat};
+use yokai_engine::{Colour, Game, Seat};
+use yokai_vec::Encoding;
 
 /// One network step for seats of games, their memories and `keep` flags
 /// ([`crate::network::ActorCritic::step_seats`] of whichever network plays the partners).
@@ -70,5 +73,52 @@ impl Partners<'_> {
                 actions
             }
         }
+    }
+}
+
+impl<E: Encoder, M: Recurrent> Trainer<E, M> {
+    /// The memories of the partner seats `seats[i]` of each game `i` in the partners'
+    /// network (its memory step `recur`, its observation `encoding`, memories of width
+    /// `hidden`), rebuilt by replaying the game's episode in its fictitious colouring
+    /// (`[seats × H]` per game; nothing where `seats[i]` is empty).
+    ///
+    /// The real memories read the real colours of the cards each partner observed; in a
+    /// world drawn from the acting seat's belief those colours differ, so the real memory
+    /// would carry facts of the real world into the fictitious one. The reference
+    /// implementation (Hanabi) reuses the real memory, which is sound there only because its
+    /// LSTM reads public features alone. The replay costs one batched network step per step
+    /// of the episode so far, all games together.
+    pub(super) fn partner_memories(
+        &self,
+        recur: &mut dyn FnMut(Vec<f32>, Vec<f32>, Vec<f32>) -> Vec<f32>,
+        encoding: Encoding,
+        hidden: usize,
+        colourings: &[Vec<Colour>],
+        seats: &[Vec<Seat>],
+    ) -> Result<Vec<Vec<f32>>, TrainError> {
+        let mut episodes = Vec::with_capacity(seats.len());
+        for (i, colours) in colourings.iter().enumerate() {
+            if seats[i].is_empty() {
+                episodes.push(Vec::new());
+                continue;
+            }
+            let (start, history) = self.episode_so_far(i);
+            let start = start
+                .with_card_colours(colours)
+                .map_err(|e| TrainError::Obl(format!("env {i}: belief sample: {e}")))?;
+            let replayed = episode_states(start, history);
+            let game = self.env.game(i);
+            if game.with_card_colours(colours).ok().as_ref() != replayed.last() {
+                return Err(TrainError::Obl(format!(
+                    "env {i}: replaying the episode's {} actions does not reach its state",
+                    history.len()
+                )));
+            }
+            episodes.push(replayed);
+        }
+        let sequences: Vec<&[Game]> = episodes.iter().map(|e| &e[..]).collect();
+        let mut states: Vec<Vec<f32>> = seats.iter().map(|s| vec![0.0; s.len() * hidden]).collect();
+        step_along(&sequences, seats, &mut states, encoding, true, recur);
+        Ok(states)
     }
 }

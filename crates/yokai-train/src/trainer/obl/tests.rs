@@ -1,0 +1,226 @@
+//! Tests of OBL's targets in the rollout: ending, partners, the END term, the oracle.
+
+use super::*;
+use crate::network::MlpEncoder;
+use crate::TrainConfig;
+use burn::module::Module;
+use yokai_agents::belief::colouring::all_colourings;
+use yokai_engine::{Action, Card, Colour};
+
+fn config() -> TrainConfig {
+    let mut c = TrainConfig::from_toml_str(
+        "[network]\npreset = \"compact\"\nhidden = 16\n[ppo]\nnum_envs = 8\n\
+         rollout_steps = 8\nminibatches = 2\n[obl]\nlevel = 1\n[run]\nthreads = 1\n",
+        "test",
+    )
+    .unwrap();
+    c.ppo.total_steps = 64 * 4;
+    c
+}
+
+/// Ending at the first step: the target is R_END in a world drawn from the seat's
+/// level-1 belief, which knows nothing yet, so over many draws its mean is the mean
+/// R_END over all 1,680 colourings of the game's start square (computed here by
+/// listing them), and no value is bootstrapped: the continuation ended.
+#[test]
+fn the_target_of_ending_at_the_start_is_the_mean_over_all_colourings() {
+    let trainer = Trainer::<MlpEncoder>::new(config(), 3).unwrap();
+    let net = trainer.model.valid();
+    let game = *trainer.env.config();
+    let end = game.encode(Action::End) as u32;
+    let rows = trainer.rows;
+    let joint: Vec<u32> = (0..rows)
+        .map(|r| if r % 2 == 0 { end } else { 0 })
+        .collect();
+    // Per game: the mean and the variance of R_END over all colourings.
+    let mut exact = [(0f64, 0f64); 8];
+    let all = all_colourings(&game);
+    for (i, e) in exact.iter_mut().enumerate() {
+        let start = trainer.env.game(i);
+        let rewards: Vec<f64> = all
+            .iter()
+            .map(|x| {
+                let colours: Vec<Colour> = (0..9).map(|k| x.colour_of(Card(k))).collect();
+                let mut g = start.with_card_colours(&colours).unwrap();
+                g.apply(Action::End).unwrap().reward as f64
+            })
+            .collect();
+        let mean = rewards.iter().sum::<f64>() / rewards.len() as f64;
+        let var = rewards.iter().map(|r| (r - mean).powi(2)).sum::<f64>() / rewards.len() as f64;
+        *e = (mean, var);
+    }
+    let draws = 3000;
+    let mut sums = [0f64; 8];
+    for t in 0..draws {
+        let targets = trainer.obl_targets(&net, t, &joint, 1.0).unwrap().targets;
+        assert_eq!(targets.len(), 8, "one target per game");
+        for (row, target) in targets {
+            assert_eq!(row % 2, 0, "seat 0 acts first");
+            sums[row / 2] += target as f64;
+        }
+    }
+    for (i, sum) in sums.iter().enumerate() {
+        let mean = sum / draws as f64;
+        let (want, var) = exact[i];
+        let se = (var / draws as f64).sqrt();
+        assert!(
+            (mean - want).abs() < 5.0 * se,
+            "game {i}: mean target {mean:.3}, exact {want:.3} (SE {se:.3})"
+        );
+    }
+}
+
+/// The partners' memories rebuilt by replaying each episode are the memories the
+/// rollout built, when the colouring replayed is the true one: after a rollout (games
+/// mid-episode and some just dealt), every partner seat's replayed memory equals its
+/// row of the rollout's state once that has read the current observation.
+#[test]
+fn partner_memories_replayed_in_the_true_colours_are_the_real_ones() {
+    let mut c = config();
+    c.ppo.rollout_steps = 13;
+    let mut trainer = Trainer::<MlpEncoder>::new(c, 9).unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(2);
+    trainer.collect(1.0, &mut rng).unwrap();
+    let net = trainer.model.valid();
+    let (rows, l, na) = (trainer.rows, trainer.obs_len, trainer.n_actions);
+    let (mut obs, mut masks) = (vec![0f32; rows * l], vec![0f32; rows * na]);
+    trainer.view(&mut obs, &mut masks);
+    let dev = trainer.infer_device.clone();
+    let real = net
+        .act(&obs, &trainer.state.hidden, &trainer.keeps(), &[], &dev, 1)
+        .states;
+    let truths: Vec<Vec<Colour>> = (0..8).map(|i| true_colours(trainer.env.game(i))).collect();
+    let seats: Vec<Vec<Seat>> = (0..8)
+        .map(|i| partners_of(trainer.env.game(i), trainer.env.game(i).current_seat()))
+        .collect();
+    let h = trainer.model.hidden_size();
+    let replayed = trainer
+        .partner_memories(
+            &mut |o, s, k| recur(&net, o, s, k, &dev),
+            MlpEncoder::encoding(),
+            h,
+            &truths,
+            &seats,
+        )
+        .unwrap();
+    let lengths: Vec<usize> = (0..8).map(|i| trainer.state.history[i].len()).collect();
+    assert!(
+        lengths.iter().any(|&n| n > 5),
+        "some episode is long: {lengths:?}"
+    );
+    for i in 0..8 {
+        let seat = seats[i][0].index();
+        let want = &real[(2 * i + seat) * h..][..h];
+        for (a, b) in replayed[i].iter().zip(want) {
+            assert!(
+                (a - b).abs() < 1e-5,
+                "game {i} (episode of {}): {a} vs {b}",
+                lengths[i]
+            );
+        }
+    }
+}
+
+/// `obl.partner` decides who plays the partners: where the seat's action ends its turn
+/// (substep 3) the partners move inside the continuation and the targets differ between
+/// random play (the level below level 1) and the learner; where the seat acts again at
+/// once (MOVE) they are the same.
+#[test]
+fn obl_partner_chooses_who_plays_the_partners() {
+    use crate::config::OblPartner;
+    use yokai_engine::Substep;
+    // After `steps` rollout steps from the deals, one legal action of every game.
+    let targets = |partner: OblPartner, steps: usize| {
+        let mut c = config();
+        c.ppo.rollout_steps = steps;
+        c.obl.partner = partner;
+        let mut trainer = Trainer::<MlpEncoder>::new(c, 6).unwrap();
+        trainer
+            .collect(1.0, &mut ChaCha8Rng::seed_from_u64(3))
+            .unwrap();
+        let mut joint = vec![0u32; trainer.rows];
+        let mut ends_turn = Vec::new();
+        for i in 0..8 {
+            let g = trainer.env.game(i);
+            let seat = g.current_seat();
+            joint[2 * i + seat.index()] = g.config().encode(g.legal_actions(seat)[0]) as u32;
+            ends_turn.push(g.substep() == Substep::Hint);
+        }
+        let net = trainer.model.valid();
+        let step = trainer.obl_targets(&net, 0, &joint, 1.0).unwrap();
+        (step.targets, ends_turn)
+    };
+    // Three steps in: every game is at its first REVEAL/PLACE.
+    let (below, ends_turn) = targets(OblPartner::Previous, 3);
+    let (learner, _) = targets(OblPartner::Learner, 3);
+    assert!(ends_turn.iter().all(|&e| e), "{ends_turn:?}");
+    for i in 0..8 {
+        assert_ne!(
+            below[i].1, learner[i].1,
+            "game {i}: the partners' play made no difference"
+        );
+    }
+    // Two steps in, at MOVE: the seat acts again at once, no partner moves.
+    let (below, ends_turn) = targets(OblPartner::Previous, 2);
+    let (learner, _) = targets(OblPartner::Learner, 2);
+    assert!(ends_turn.iter().all(|&e| !e), "{ends_turn:?}");
+    assert_eq!(below, learner);
+}
+
+/// `obl.oracle` runs every continuation in the true colours, where the exact belief
+/// draws other colourings.
+#[test]
+fn the_oracle_draws_the_true_colours() {
+    let worlds = |oracle: bool| {
+        let mut c = config();
+        c.obl.oracle = oracle;
+        let trainer = Trainer::<MlpEncoder>::new(c, 4).unwrap();
+        let end = trainer.env.config().encode(Action::End) as u32;
+        let net = trainer.model.valid();
+        let step = trainer
+            .obl_targets(&net, 0, &vec![end; trainer.rows], 1.0)
+            .unwrap();
+        let truths: Vec<Vec<Colour>> = (0..8).map(|i| true_colours(trainer.env.game(i))).collect();
+        (step.worlds, truths)
+    };
+    let (drawn, truths) = worlds(true);
+    assert_eq!(drawn, truths);
+    let (drawn, truths) = worlds(false);
+    assert!(
+        drawn != truths,
+        "the exact belief drew the true colouring in all 8 games"
+    );
+}
+
+/// With the END term on, what END would pay at a rollout step is read in the world the
+/// step's OBL continuation was drawn in, not on the true board: at the first step every
+/// game's END reward is that world's R_END, and some differ from the true board's.
+#[test]
+fn the_end_term_values_ending_in_the_world_drawn_from_the_belief() {
+    let mut c = config();
+    c.ppo.end_lookahead = 0.5;
+    let drawn = Trainer::<MlpEncoder>::new(c.clone(), 5).unwrap();
+    let net = drawn.model.valid();
+    // The worlds depend on the games and the step's stream only, not on the actions.
+    let end = drawn.env.config().encode(Action::End) as u32;
+    let worlds = drawn
+        .obl_targets(&net, 0, &vec![end; drawn.rows], 1.0)
+        .unwrap()
+        .worlds;
+    let mut trainer = Trainer::<MlpEncoder>::new(c, 5).unwrap();
+    let truths: Vec<i32> = (0..8).map(|i| trainer.env.game(i).end_reward()).collect();
+    let mut rng = ChaCha8Rng::seed_from_u64(1);
+    let rollout = trainer.collect(1.0, &mut rng).unwrap();
+    let mut differ = 0;
+    for (i, colours) in worlds.iter().enumerate() {
+        let start = drawn.env.game(i);
+        let want = start.with_card_colours(colours).unwrap().end_reward();
+        let row = 2 * i + start.current_seat().index();
+        assert_eq!(rollout.end_rewards[row], want as f32, "game {i}");
+        differ += (want != truths[i]) as usize;
+    }
+    assert!(
+        differ > 0,
+        "every world paid what the true board pays: {truths:?}"
+    );
+}
