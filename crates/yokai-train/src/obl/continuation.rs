@@ -52,8 +52,9 @@ pub fn continue_fictitiously(
     gamma: f32,
     horizon: usize,
 ) -> Result<Continuation, ContinuationError> {
+    let fict = game.with_card_colours(colours)?;
     let mut one = continue_all(
-        &[(game, colours, action)],
+        &[(&fict, action)],
         &mut |_, games| vec![partner(games[0])],
         shaping,
         gamma,
@@ -63,22 +64,20 @@ pub fn continue_fictitiously(
     Ok(one.remove(0))
 }
 
-/// [`continue_fictitiously`] for many games at once, `starts` holding each one's game,
-/// colouring and action. The continuations step in lockstep, so that `partners` runs once
-/// per step for all that are still open (the partners' network then steps all their
-/// partner seats in one batch): it is given their indices in `starts` and their fictitious
-/// games, and returns an action index for each, in order. An error names the start.
+/// [`continue_fictitiously`] for many games at once, `starts` holding each one's game
+/// already recoloured (the fictitious world, [`Game::with_card_colours`]) and the action.
+/// The continuations step in lockstep, so that `partners` runs once per step for all that
+/// are still open (the partners' network then steps all their partner seats in one batch):
+/// it is given their indices in `starts` and their fictitious games, and returns an action
+/// index for each, in order. An error names the start.
 pub fn continue_all(
-    starts: &[(&Game, &[Colour], usize)],
+    starts: &[(&Game, usize)],
     partners: &mut impl FnMut(&[usize], &[&Game]) -> Vec<usize>,
     shaping: f32,
     gamma: f32,
     horizon: usize,
 ) -> Result<Vec<Continuation>, (usize, ContinuationError)> {
-    let mut fict = Vec::with_capacity(starts.len());
-    for (k, &(game, colours, _)) in starts.iter().enumerate() {
-        fict.push(game.with_card_colours(colours).map_err(|e| (k, e.into()))?);
-    }
+    let mut fict: Vec<Game> = starts.iter().map(|&(g, _)| g.clone()).collect();
     let mut out: Vec<Continuation> = (0..starts.len())
         .map(|_| Continuation {
             states: Vec::with_capacity(horizon.min(16)),
@@ -87,7 +86,7 @@ pub fn continue_all(
         })
         .collect();
     let mut discount = vec![1f32; starts.len()];
-    let mut next: Vec<usize> = starts.iter().map(|s| s.2).collect();
+    let mut next: Vec<usize> = starts.iter().map(|s| s.1).collect();
     let mut open: Vec<usize> = (0..starts.len()).collect();
     while !open.is_empty() {
         let mut still = Vec::with_capacity(open.len());
@@ -260,12 +259,13 @@ mod tests {
             .map(|g| sample_first_hand_consistent(g, g.current_seat(), &mut rng))
             .collect();
         let actions: Vec<usize> = games.iter().map(|g| random_legal(g, &mut rng)).collect();
-        let starts: Vec<(&Game, &[Colour], usize)> = games
+        let worlds: Vec<Game> = games
             .iter()
             .zip(&colourings)
-            .zip(&actions)
-            .map(|((g, c), &a)| (g, &c[..], a))
+            .map(|(g, c)| g.with_card_colours(c).unwrap())
             .collect();
+        let starts: Vec<(&Game, usize)> =
+            worlds.iter().zip(&actions).map(|(w, &a)| (w, a)).collect();
         let mut calls = 0;
         let together = continue_all(
             &starts,
@@ -280,7 +280,7 @@ mod tests {
         )
         .unwrap();
         let mut longest = 0;
-        for (k, &(g, colours, a)) in starts.iter().enumerate() {
+        for (k, ((g, colours), &a)) in games.iter().zip(&colourings).zip(&actions).enumerate() {
             let alone =
                 continue_fictitiously(g, colours, a, &mut |g| partner(g), 1.0, 0.99, 8).unwrap();
             let both = &together[k];

@@ -170,14 +170,8 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
                     if m[r * na + end] > 0.5 {
                         // Under OBL, what END pays in the world drawn from the seat's belief
                         // (the fictitious game its target comes from), never the true one.
-                        let game = self.env.game(i);
-                        end_rewards[t * rows + r] = match worlds.get(i) {
-                            Some(colours) => game
-                                .with_card_colours(colours)
-                                .map_err(|e| TrainError::Obl(format!("env {i}, step {t}: {e}")))?
-                                .end_reward(),
-                            None => game.end_reward(),
-                        } as f32;
+                        let game = worlds.get(i).unwrap_or_else(|| self.env.game(i));
+                        end_rewards[t * rows + r] = game.end_reward() as f32;
                     }
                 }
             }

@@ -2,8 +2,6 @@
 //! environment: the learner's memory through a fictitious continuation, and the partners'
 //! memories through an episode replayed in a fictitious colouring.
 
-use crate::network::{shards_on, ActorCritic, Encoder, Recurrent};
-use burn::prelude::Device;
 use yokai_engine::{Game, Seat};
 use yokai_vec::Encoding;
 
@@ -73,17 +71,4 @@ pub(super) fn episode_states(start: Game, history: &[u32]) -> Vec<Game> {
         states.push(next);
     }
     states
-}
-
-/// One memory step of `net` for the rows of `obs`, `states` and `keep` (flat, as in
-/// [`ActorCritic::act`]), in one part per core.
-pub(super) fn recur<E: Encoder, M: Recurrent>(
-    net: &ActorCritic<E, M>,
-    obs: Vec<f32>,
-    states: Vec<f32>,
-    keep: Vec<f32>,
-    device: &Device,
-) -> Vec<f32> {
-    net.act(&obs, &states, &keep, &[], device, shards_on(device))
-        .states
 }

@@ -33,8 +33,8 @@ use super::{tensor2, to_vec, TrainError, Trainer};
 use crate::config::OblPartner;
 use crate::network::{ActorCritic, Encoder, Recurrent};
 use crate::obl::{continue_all, first_hand_slots, sample_first_hand_consistent, Continuation};
-use memory::{recur, step_along};
-use partners::Partners;
+use memory::step_along;
+use partners::{Learner, PartnerNet, Partners};
 use rand_chacha::rand_core::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use yokai_engine::{derive_seed, Card, Colour, Game, Part, Seat};
@@ -72,20 +72,26 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
                 .collect(),
             Some(previous) => self.sample_beliefs(previous, &mut rng)?,
         };
-        let starts: Vec<(&Game, &[Colour], usize)> = colourings
+        // Each game recoloured with its draw, once: the world its continuation runs in, which
+        // the partners' replay must reach and where the END term values ending.
+        let worlds = (0..n)
+            .map(|i| {
+                self.env
+                    .game(i)
+                    .with_card_colours(&colourings[i])
+                    .map_err(|e| TrainError::Obl(format!("env {i}, step {t}: belief sample: {e}")))
+            })
+            .collect::<Result<Vec<Game>, _>>()?;
+        let starts: Vec<(&Game, usize)> = worlds
             .iter()
             .enumerate()
-            .map(|(i, colours)| {
-                let game = self.env.game(i);
-                let row = i * p + game.current_seat().index();
-                (game, &colours[..], joint[row] as usize)
-            })
+            .map(|(i, w)| (w, joint[i * p + w.current_seat().index()] as usize))
             .collect();
         // Partners play only where the action ends the seat's turn and not the game (after
         // OBSERVE or MOVE the seat acts again at once): only there are their memories built.
         let seats: Vec<Vec<Seat>> = starts
             .iter()
-            .map(|&(g, _, a)| {
+            .map(|&(g, a)| {
                 let mut after = g.clone();
                 let done = after.apply_index(a).map(|s| s.done).unwrap_or(true);
                 if done || after.current_seat() == g.current_seat() {
@@ -96,39 +102,17 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             })
             .collect();
         let dev = &self.infer_device;
-        let learner =
-            |rows: &[(&Game, Seat)], states, keep| net.step_seats(rows, states, keep, dev);
-        let previous = self.previous.as_ref().map(|p| &p.policy);
-        let below = |rows: &[(&Game, Seat)], states, keep| {
-            previous
-                .expect("a level ≥ 2 run has a previous level")
-                .step_seats(rows, states, keep)
+        let learner = Learner { net, device: dev };
+        let network: Option<&dyn PartnerNet> = match (self.config.obl.partner, &self.previous) {
+            (OblPartner::Learner, _) => Some(&learner),
+            (OblPartner::Previous, Some(previous)) => Some(&previous.policy),
+            (OblPartner::Previous, None) => None,
         };
-        let mut partners = match (self.config.obl.partner, previous) {
-            (OblPartner::Previous, None) => Partners::Random(&mut partner_rng),
-            (OblPartner::Previous, Some(policy)) => Partners::Network {
-                step: &below,
-                hidden: policy.hidden_size(),
-                states: self.partner_memories(
-                    &mut |o, h, k| policy.recur_batch(o, h, k),
-                    policy.encoding(),
-                    policy.hidden_size(),
-                    &colourings,
-                    &seats,
-                )?,
-                seats,
-                rng: &mut partner_rng,
-            },
-            (OblPartner::Learner, _) => Partners::Network {
-                step: &learner,
-                hidden: hsz,
-                states: self.partner_memories(
-                    &mut |o, h, k| recur(net, o, h, k, dev),
-                    E::encoding(),
-                    hsz,
-                    &colourings,
-                    &seats,
-                )?,
+        let mut partners = match network {
+            None => Partners::Random(&mut partner_rng),
+            Some(net) => Partners::Network {
+                net,
+                states: self.partner_memories(net, &colourings, &worlds, &seats)?,
                 seats,
                 rng: &mut partner_rng,
             },
@@ -145,7 +129,7 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             .iter()
             .zip(continued)
             .enumerate()
-            .map(|(i, ((g, _, _), c))| (i * p + g.current_seat().index(), g.current_seat(), c))
+            .map(|(i, ((g, _), c))| (i * p + g.current_seat().index(), g.current_seat(), c))
             .collect();
         // Each seat's memory reads its observations of the fictitious steps, from its state at
         // t; a continuation that ended needs no value, so its seat reads nothing.
@@ -164,7 +148,7 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             &mut states,
             E::encoding(),
             false,
-            &mut |o, h, k| recur(net, o, h, k, dev),
+            &mut |o, h, k| learner.recur(o, h, k),
         );
         // Bootstrap from the value where the seat acts again.
         let open: Vec<usize> = (0..runs.len()).filter(|&k| !runs[k].2.done).collect();
@@ -182,10 +166,7 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         for (m, &k) in open.iter().enumerate() {
             targets[k].1 += gamma.powi(runs[k].2.steps() as i32) * values[m];
         }
-        Ok(OblStep {
-            targets,
-            worlds: colourings,
-        })
+        Ok(OblStep { targets, worlds })
     }
 }
 
@@ -193,9 +174,9 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
 pub(super) struct OblStep {
     /// (row, value target) of every game's acting row.
     pub targets: Vec<(usize, f32)>,
-    /// Per game, the card colours drawn from the acting seat's belief: the world its
-    /// fictitious continuation ran in, where the END term values ending too.
-    pub worlds: Vec<Vec<Colour>>,
+    /// Per game, the game recoloured with the draw from the acting seat's belief: the world
+    /// its fictitious continuation ran in, where the END term values ending too.
+    pub worlds: Vec<Game>,
 }
 
 /// The colour of every card of `game`, by card id.

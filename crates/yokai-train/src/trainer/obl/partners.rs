@@ -5,27 +5,75 @@
 
 use super::memory::{episode_states, step_along};
 use crate::distribution::sample_legal;
-use crate::network::{Encoder, Recurrent, SeatStep};
+use crate::network::{shards_on, ActorCritic, Encoder, Recurrent, SeatStep};
 use crate::obl::continuation::random_legal;
 use crate::trainer::{TrainError, Trainer};
+use crate::TrainedPolicy;
+use burn::prelude::Device;
 use rand_chacha::ChaCha8Rng;
 use yokai_engine::{Colour, Game, Seat};
 use yokai_vec::Encoding;
 
-/// One network step for seats of games, their memories and `keep` flags
-/// ([`crate::network::ActorCritic::step_seats`] of whichever network plays the partners).
-pub(super) type StepSeats<'a> = dyn Fn(&[(&Game, Seat)], Vec<f32>, Vec<f32>) -> SeatStep + 'a;
+/// A network that can play the partners: the previous level's policy, or the learner's own
+/// network on its device ([`Learner`]).
+pub(super) trait PartnerNet {
+    /// [`ActorCritic::step_seats`]: every seat's memory steps, the acting seats' logits.
+    fn step_seats(&self, rows: &[(&Game, Seat)], states: Vec<f32>, keep: Vec<f32>) -> SeatStep;
+    /// One memory step of flat rows (observations, states, keep).
+    fn recur(&self, obs: Vec<f32>, states: Vec<f32>, keep: Vec<f32>) -> Vec<f32>;
+    fn encoding(&self) -> Encoding;
+    fn hidden_size(&self) -> usize;
+}
+
+impl PartnerNet for TrainedPolicy {
+    fn step_seats(&self, rows: &[(&Game, Seat)], states: Vec<f32>, keep: Vec<f32>) -> SeatStep {
+        TrainedPolicy::step_seats(self, rows, states, keep)
+    }
+    fn recur(&self, obs: Vec<f32>, states: Vec<f32>, keep: Vec<f32>) -> Vec<f32> {
+        self.recur_batch(obs, states, keep)
+    }
+    fn encoding(&self) -> Encoding {
+        TrainedPolicy::encoding(self)
+    }
+    fn hidden_size(&self) -> usize {
+        TrainedPolicy::hidden_size(self)
+    }
+}
+
+/// The learner's network on the device it acts on.
+pub(super) struct Learner<'a, E: Encoder, M: Recurrent> {
+    pub net: &'a ActorCritic<E, M>,
+    pub device: &'a Device,
+}
+
+impl<E: Encoder, M: Recurrent> PartnerNet for Learner<'_, E, M> {
+    fn step_seats(&self, rows: &[(&Game, Seat)], states: Vec<f32>, keep: Vec<f32>) -> SeatStep {
+        self.net.step_seats(rows, states, keep, self.device)
+    }
+    /// In one part per core, as the rollout acts ([`ActorCritic::act`], no logits).
+    fn recur(&self, obs: Vec<f32>, states: Vec<f32>, keep: Vec<f32>) -> Vec<f32> {
+        let shards = shards_on(self.device);
+        self.net
+            .act(&obs, &states, &keep, &[], self.device, shards)
+            .states
+    }
+    fn encoding(&self) -> Encoding {
+        E::encoding()
+    }
+    fn hidden_size(&self) -> usize {
+        self.net.hidden_size()
+    }
+}
 
 /// Who plays the partners' turns in the fictitious continuations of one rollout step.
 pub(super) enum Partners<'a> {
     /// Level 0 below level 1: uniformly random legal play.
     Random(&'a mut ChaCha8Rng),
-    /// A network (`step`, memories of width `hidden`): per continuation, its partner seats
-    /// and their memories (`[seats × H]`). Every partner seat's memory reads each state; the
-    /// acting one samples from its logits, as the rollout's seats do.
+    /// A network: per continuation, its partner seats and their memories (`[seats × H]`).
+    /// Every partner seat's memory reads each state; the acting one samples from its
+    /// logits, as the rollout's seats do.
     Network {
-        step: &'a StepSeats<'a>,
-        hidden: usize,
+        net: &'a dyn PartnerNet,
         seats: Vec<Vec<Seat>>,
         states: Vec<Vec<f32>>,
         rng: &'a mut ChaCha8Rng,
@@ -40,8 +88,7 @@ impl Partners<'_> {
         match self {
             Partners::Random(rng) => games.iter().map(|g| random_legal(g, rng)).collect(),
             Partners::Network {
-                step,
-                hidden,
+                net,
                 seats,
                 states,
                 rng,
@@ -55,8 +102,8 @@ impl Partners<'_> {
                     .iter()
                     .flat_map(|&k| std::mem::take(&mut states[k]))
                     .collect();
-                let stepped = step(&rows, memories, vec![1.0; rows.len()]);
-                let h = *hidden;
+                let stepped = net.step_seats(&rows, memories, vec![1.0; rows.len()]);
+                let h = net.hidden_size();
                 let mut at = 0;
                 let mut actions = Vec::with_capacity(games.len());
                 for (&k, &game) in which.iter().zip(games) {
@@ -77,10 +124,10 @@ impl Partners<'_> {
 }
 
 impl<E: Encoder, M: Recurrent> Trainer<E, M> {
-    /// The memories of the partner seats `seats[i]` of each game `i` in the partners'
-    /// network (its memory step `recur`, its observation `encoding`, memories of width
-    /// `hidden`), rebuilt by replaying the game's episode in its fictitious colouring
-    /// (`[seats × H]` per game; nothing where `seats[i]` is empty).
+    /// The memories, in `net`, of the partner seats `seats[i]` of each game `i`, rebuilt by
+    /// replaying the game's episode in its fictitious colouring `colourings[i]`, which must
+    /// reach `worlds[i]`, the game recoloured (`[seats × H]` per game; nothing where
+    /// `seats[i]` is empty).
     ///
     /// The real memories read the real colours of the cards each partner observed; in a
     /// world drawn from the acting seat's belief those colours differ, so the real memory
@@ -90,10 +137,9 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
     /// of the episode so far, all games together.
     pub(super) fn partner_memories(
         &self,
-        recur: &mut dyn FnMut(Vec<f32>, Vec<f32>, Vec<f32>) -> Vec<f32>,
-        encoding: Encoding,
-        hidden: usize,
+        net: &dyn PartnerNet,
         colourings: &[Vec<Colour>],
+        worlds: &[Game],
         seats: &[Vec<Seat>],
     ) -> Result<Vec<Vec<f32>>, TrainError> {
         let mut episodes = Vec::with_capacity(seats.len());
@@ -107,8 +153,7 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
                 .with_card_colours(colours)
                 .map_err(|e| TrainError::Obl(format!("env {i}: belief sample: {e}")))?;
             let replayed = episode_states(start, history);
-            let game = self.env.game(i);
-            if game.with_card_colours(colours).ok().as_ref() != replayed.last() {
+            if replayed.last() != Some(&worlds[i]) {
                 return Err(TrainError::Obl(format!(
                     "env {i}: replaying the episode's {} actions does not reach its state",
                     history.len()
@@ -117,8 +162,16 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             episodes.push(replayed);
         }
         let sequences: Vec<&[Game]> = episodes.iter().map(|e| &e[..]).collect();
+        let hidden = net.hidden_size();
         let mut states: Vec<Vec<f32>> = seats.iter().map(|s| vec![0.0; s.len() * hidden]).collect();
-        step_along(&sequences, seats, &mut states, encoding, true, recur);
+        step_along(
+            &sequences,
+            seats,
+            &mut states,
+            net.encoding(),
+            true,
+            &mut |o, h, k| net.recur(o, h, k),
+        );
         Ok(states)
     }
 }

@@ -94,14 +94,14 @@ fn partner_memories_replayed_in_the_true_colours_are_the_real_ones() {
         .map(|i| partners_of(trainer.env.game(i), trainer.env.game(i).current_seat()))
         .collect();
     let h = trainer.model.hidden_size();
+    // Recoloured with their own colours, the worlds are the real games.
+    let worlds: Vec<Game> = (0..8).map(|i| trainer.env.game(i).clone()).collect();
+    let learner = Learner {
+        net: &net,
+        device: &dev,
+    };
     let replayed = trainer
-        .partner_memories(
-            &mut |o, s, k| recur(&net, o, s, k, &dev),
-            MlpEncoder::encoding(),
-            h,
-            &truths,
-            &seats,
-        )
+        .partner_memories(&learner, &truths, &worlds, &seats)
         .unwrap();
     let lengths: Vec<usize> = (0..8).map(|i| trainer.state.history[i].len()).collect();
     assert!(
@@ -181,7 +181,8 @@ fn the_oracle_draws_the_true_colours() {
             .obl_targets(&net, 0, &vec![end; trainer.rows], 1.0)
             .unwrap();
         let truths: Vec<Vec<Colour>> = (0..8).map(|i| true_colours(trainer.env.game(i))).collect();
-        (step.worlds, truths)
+        let drawn: Vec<Vec<Colour>> = step.worlds.iter().map(true_colours).collect();
+        (drawn, truths)
     };
     let (drawn, truths) = worlds(true);
     assert_eq!(drawn, truths);
@@ -212,10 +213,9 @@ fn the_end_term_values_ending_in_the_world_drawn_from_the_belief() {
     let mut rng = ChaCha8Rng::seed_from_u64(1);
     let rollout = trainer.collect(1.0, &mut rng).unwrap();
     let mut differ = 0;
-    for (i, colours) in worlds.iter().enumerate() {
-        let start = drawn.env.game(i);
-        let want = start.with_card_colours(colours).unwrap().end_reward();
-        let row = 2 * i + start.current_seat().index();
+    for (i, world) in worlds.iter().enumerate() {
+        let want = world.end_reward();
+        let row = 2 * i + world.current_seat().index();
         assert_eq!(rollout.end_rewards[row], want as f32, "game {i}");
         differ += (want != truths[i]) as usize;
     }
