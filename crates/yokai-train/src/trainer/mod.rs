@@ -419,6 +419,7 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         let losses = self.learn_epochs(&rollout, lr, &mut rng);
         self.state.update += 1;
         let secs = start.elapsed().as_secs_f64();
+        let belief = self.previous.as_ref().map(|p| p.belief_stats());
         Ok(UpdateStats {
             update: self.state.update,
             env_steps: self.env_steps(),
@@ -433,11 +434,8 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             cluster_reward: rollout.cluster_reward,
             belief_loss: losses.belief.map(|b| b.0),
             belief_accuracy: losses.belief.map(|b| b.1),
-            obl_belief_cross_entropy: self.previous.as_ref().map(|p| p.belief_stats.cross_entropy),
-            obl_belief_baseline: self
-                .previous
-                .as_ref()
-                .map(|p| p.belief_stats.uniform_cross_entropy),
+            obl_belief_cross_entropy: belief.map(|b| b.cross_entropy),
+            obl_belief_baseline: belief.map(|b| b.uniform_cross_entropy),
             rollout_seconds,
             learn_seconds: secs - rollout_seconds,
         })

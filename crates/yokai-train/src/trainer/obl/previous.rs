@@ -15,16 +15,14 @@ use burn::prelude::*;
 use yokai_engine::{derive_seed, Config};
 
 /// Updates at the end of the belief's training whose figures are averaged for the report.
-const REPORTED_UPDATES: u64 = 20;
+const REPORTED_UPDATES: usize = 20;
 
 /// The level below a level ≥ 2 run: its policy and the belief trained on its games.
 pub(crate) struct PreviousLevel {
     pub policy: TrainedPolicy,
     pub belief: BeliefModel,
-    /// The belief's figures over its last `REPORTED_UPDATES` training updates (each
-    /// measured on its rollout before learning from it).
-    pub belief_stats: BeliefStats,
-    /// Every training update's figures, in order: the belief's learning curve.
+    /// Every training update's figures, in order (each measured on its rollout before
+    /// learning from it): the belief's learning curve.
     pub belief_curve: Vec<BeliefStats>,
 }
 
@@ -53,17 +51,21 @@ impl PreviousLevel {
             derive_seed(seed, 0xB0B),
             device.clone(),
         )?;
-        // The figures reported: slot-weighted means over the last updates (one rollout of
-        // 16 games is too few to compare a belief with its baseline).
-        let updates = config.obl.belief_updates;
-        let tail = updates.min(REPORTED_UPDATES);
-        let stats: Vec<BeliefStats> = (0..updates).map(|_| trainer.update()).collect();
-        let belief_stats = BeliefStats::mean(stats[(updates - tail) as usize..].iter().copied());
+        let belief_curve = (0..config.obl.belief_updates)
+            .map(|_| trainer.update())
+            .collect();
         Ok(PreviousLevel {
             policy,
             belief: trainer.into_model(),
-            belief_stats,
-            belief_curve: stats,
+            belief_curve,
         })
+    }
+
+    /// The figures reported: slot-weighted means over the last `REPORTED_UPDATES` updates
+    /// of the belief's training (one rollout of 16 games is too few to compare a belief
+    /// with its baseline).
+    pub fn belief_stats(&self) -> BeliefStats {
+        let tail = self.belief_curve.len().saturating_sub(REPORTED_UPDATES);
+        BeliefStats::mean(self.belief_curve[tail..].iter().copied())
     }
 }
