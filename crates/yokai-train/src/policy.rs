@@ -251,7 +251,7 @@ impl TrainedPolicy {
 
     /// [`ActorCritic::step_seats`] of this policy's network, on its device: every seat's
     /// memory steps, and the actor runs for the seats whose turn it is. For callers that
-    /// drive many seats of many games (the probe recorder, OBL's belief data).
+    /// drive many seats of many games (the probe recorder, OBL's belief data and partners).
     pub fn step_seats(&self, rows: &[(&Game, Seat)], states: Vec<f32>, keep: Vec<f32>) -> SeatStep {
         with_net!(&self.net, m => m.step_seats(rows, states, keep, &self.device))
     }
