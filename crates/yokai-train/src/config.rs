@@ -181,16 +181,13 @@ pub enum EncoderKind {
 }
 
 impl std::fmt::Display for EncoderKind {
-    /// The name a config file gives it (`network.encoder`).
+    /// The name a config file gives it (`network.encoder`), as serde spells it: the names
+    /// are written once, in the attributes above.
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
-            EncoderKind::Cnn => "cnn",
-            EncoderKind::Mlp => "mlp",
-            EncoderKind::Gcn => "gcn",
-            EncoderKind::Gatv2 => "gatv2",
-            EncoderKind::Relation => "relation",
-            EncoderKind::PublicPrivate => "public-private",
-        })
+        match serde_json::to_value(self) {
+            Ok(serde_json::Value::String(name)) => f.write_str(&name),
+            _ => write!(f, "{self:?}"),
+        }
     }
 }
 
