@@ -13,9 +13,11 @@ disk_report start
 trap 'disk_report end' EXIT
 cargo fmt --all -- --check
 cargo clippy --workspace --all-targets --release -- -D warnings
-# The GPU build (burn's Vulkan runtime) is compiled, not run: CI has no GPU, and this keeps
-# `--features vulkan` from rotting (docs/training.md, "Training on a GPU").
+# The GPU builds (burn's Vulkan and CUDA runtimes) are compiled, not run: CI has no GPU, and
+# this keeps `--features vulkan` and `--features cuda` (with cubecl-llvm patched out for
+# vendor/cubecl-llvm-nvrtc) from rotting (docs/training.md, "Training on a GPU").
 cargo clippy -p yokai-cli --features vulkan --release -- -D warnings
+cargo clippy -p yokai-cli --features cuda --release -- -D warnings
 # The Python extension without the trainer (no burn), as `MATURIN_PEP517_ARGS=
 # --no-default-features pip install ./python` builds it (docs/python.md).
 cargo clippy -p yokai-python --no-default-features --release -- -D warnings

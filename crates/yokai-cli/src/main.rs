@@ -85,6 +85,13 @@ fn main() -> ExitCode {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
     let cli = Cli::parse();
+    // Before any thread starts: burn's default device is where a resumed run's optimiser
+    // state is first loaded (Backend::make_burn_default says why).
+    match &cli.command {
+        Command::Train(args) => args.device(),
+        _ => yokai_train::Backend::Cpu,
+    }
+    .make_burn_default();
     let result = match cli.command {
         Command::Random(args) => random::run(args),
         Command::Show(args) => show::run(args),

@@ -129,6 +129,13 @@ fn load_config(name: &str) -> anyhow::Result<(TrainConfig, String)> {
     Ok((config, stem))
 }
 
+impl Args {
+    /// Where the network trains (`--device`).
+    pub fn device(&self) -> yokai_train::Backend {
+        self.device
+    }
+}
+
 pub fn run(args: Args) -> anyhow::Result<()> {
     let seeds = parse_seeds(&args.seeds)?;
     let (mut config, name) = load_config(&args.config)?;

@@ -5,11 +5,13 @@
 //! feature still trains on the CPU, and the training code is the same for every backend:
 //! only the [`Device`] differs. The environment always steps on the CPU.
 //!
-//! Why Vulkan is the GPU route that builds here: burn 0.22's CUDA runtime (`cubecl-cuda`
-//! 0.11) depends on `cubecl-llvm`, whose build script downloads an LLVM bundle, and this
-//! workplace reaches only package registries. The Vulkan runtime (`cubecl-wgpu` with
-//! SPIR-V) builds from crates alone and needs only a Vulkan loader and the GPU's driver at
-//! run time (`docs/training.md`).
+//! Both GPU routes build from crates alone. burn 0.22's CUDA runtime (`cubecl-cuda` 0.11)
+//! depends on `cubecl-llvm`, whose build script downloads an LLVM bundle, and this workplace
+//! reaches only package registries; the `cuda` feature therefore turns on cubecl-cuda's
+//! NVRTC backend (CUDA C++ compiled at run time, as cubecl-cuda 0.10 always did) and the
+//! workspace patches `cubecl-llvm` out for a stand-in (`vendor/cubecl-llvm-nvrtc`). The
+//! Vulkan runtime (`cubecl-wgpu` with SPIR-V) needs only a Vulkan loader and the GPU's
+//! driver at run time (`docs/training.md`).
 
 use burn::prelude::*;
 use std::fmt;
@@ -70,6 +72,21 @@ impl Backend {
             .collect()
     }
 
+    /// Makes this backend burn's default device for the whole process (`BURN_DEVICE`).
+    ///
+    /// burn 0.22 puts a loaded optimiser's state on `Device::default()` (burn-optim's
+    /// `ModuleOptimizer::load_record`) before the first step moves it to the parameters'
+    /// device, and in a build with a GPU feature that default is the GPU, whatever device the
+    /// run trains on: `--resume` of a CPU run then fails on a machine without the GPU. Call
+    /// this once, before any thread starts: it sets an environment variable.
+    pub fn make_burn_default(self) {
+        let name = match self {
+            Backend::Cpu => "flex",
+            Backend::Vulkan | Backend::Cuda => self.name(),
+        };
+        std::env::set_var("BURN_DEVICE", name);
+    }
+
     /// The backend's (inference) device, without checking that a GPU answers.
     fn raw_device(self) -> Result<Device, BackendError> {
         if !self.is_built() {
@@ -97,6 +114,17 @@ impl Backend {
         let device = self.raw_device()?;
         if self == Backend::Cpu {
             return Ok(device);
+        }
+        // NVRTC compiles every kernel against the CUDA headers, and cubecl-cuda panics deep
+        // in its first kernel when they are missing: say so before that.
+        #[cfg(feature = "cuda")]
+        if self == Backend::Cuda {
+            if let Some(message) = cuda_headers_missing(cubecl_cuda::install::cuda_path()) {
+                return Err(BackendError::Unavailable {
+                    backend: self,
+                    message,
+                });
+            }
         }
         let probe = device.clone();
         // The runtime's own panic is often raised on its server thread, and the probe then
@@ -144,8 +172,31 @@ impl Backend {
                 "needs a Vulkan loader (libvulkan.so.1) and the GPU driver's Vulkan ICD; \
                  set VK_DRIVER_FILES to the driver's ICD json if the loader does not find it"
             }
-            Backend::Cuda => "needs the NVIDIA driver, libnvrtc and the CUDA headers",
+            Backend::Cuda => {
+                "needs the NVIDIA driver (libcuda.so), NVRTC (libnvrtc.so, on LD_LIBRARY_PATH) \
+                 and the CUDA headers (CUDA_PATH or /usr/local/cuda)"
+            }
         }
+    }
+}
+
+/// What is wrong with the CUDA installation found at `root` (cubecl-cuda's `cuda_path()`:
+/// `CUDA_PATH`, else /usr/local/cuda, /opt/cuda or /usr), or `None` when NVRTC will find the
+/// headers every kernel includes.
+#[cfg_attr(not(feature = "cuda"), allow(dead_code))]
+fn cuda_headers_missing(root: Option<std::path::PathBuf>) -> Option<String> {
+    let fix = "set CUDA_PATH to the CUDA toolkit (the folder that holds include/cuda_fp16.h)";
+    let Some(root) = root else {
+        return Some(format!("no CUDA installation found: {fix}"));
+    };
+    let header = root.join("include").join("cuda_fp16.h");
+    if header.is_file() {
+        None
+    } else {
+        Some(format!(
+            "the CUDA headers are not at {}: {fix}",
+            header.display()
+        ))
     }
 }
 
@@ -192,5 +243,40 @@ mod tests {
             assert!(e.contains("cpu"), "{e}");
         }
         assert!(Backend::Cpu.device().is_ok());
+    }
+
+    /// In a GPU build burn's own default is the GPU; after this call it is the CPU backend
+    /// the trainer uses, so a resumed CPU run loads its optimiser state there.
+    #[test]
+    fn the_selected_backend_becomes_burns_default_device() {
+        Backend::Cpu.make_burn_default();
+        assert_eq!(Device::default(), crate::trainer::default_device());
+    }
+
+    #[test]
+    fn a_cuda_installation_without_headers_is_named_with_the_fix() {
+        let e = cuda_headers_missing(None).unwrap();
+        assert!(
+            e.contains("no CUDA installation") && e.contains("CUDA_PATH"),
+            "{e}"
+        );
+        let dir = tempfile::tempdir().unwrap();
+        let e = cuda_headers_missing(Some(dir.path().to_path_buf())).unwrap();
+        assert!(
+            e.contains("include/cuda_fp16.h") && e.contains("CUDA_PATH"),
+            "{e}"
+        );
+        std::fs::create_dir(dir.path().join("include")).unwrap();
+        std::fs::write(dir.path().join("include").join("cuda_fp16.h"), "").unwrap();
+        assert_eq!(cuda_headers_missing(Some(dir.path().to_path_buf())), None);
+    }
+
+    /// The CUDA build must never select cubecl-cuda's LLVM backend: in this workspace that
+    /// backend is a stand-in that refuses every kernel (vendor/cubecl-llvm-nvrtc).
+    #[cfg(feature = "cuda")]
+    #[test]
+    fn the_cuda_build_compiles_kernels_with_nvrtc() {
+        use cubecl_cuda::compiler::CudaBackend;
+        assert_eq!(CudaBackend::default(), CudaBackend::Cpp);
     }
 }

@@ -1,0 +1,104 @@
+#!/usr/bin/env bash
+# One call's worth of the GPU work of issue 15 (docs/training.md, "Training on a GPU"), for a
+# machine with an NVIDIA GPU and no Rust toolchain: the binary is built elsewhere and carried.
+#
+#   scripts/gpu-session.sh BINARY OUT [SECONDS] [DEVICE] [RUN_TAR]
+#
+#   BINARY   yokai built with `--features cuda` (or vulkan), stripped; `.xz` is unpacked first
+#   OUT      folder for what comes back: session.log, bench-*.txt, the run's metrics and a
+#            tar of the run to resume from next time (at most 8 files, none in subfolders)
+#   SECONDS  wall-clock budget for the whole script (default 540, inside a 600 s call)
+#   DEVICE   cuda (default), vulkan or cpu (cpu: a dry run of this script on any machine)
+#   RUN_TAR  a tar written by an earlier call (OUT/run-ippo-9c-2p.tar): training resumes it
+#   (TRAIN_CONFIG names another preset to train, BENCH=0 skips the timing of step 3)
+#
+# Steps: find the CUDA headers and NVRTC if CUDA_PATH / LD_LIBRARY_PATH do not say; check the
+# device with 2 updates of `quick`; time 3 updates of ippo-9c-2p and ippo-16c-2p at the paper's
+# batch (scripts/gpu-bench.sh); then train ippo-9c-2p in chunks of --max-updates with --resume
+# until the budget is nearly spent, so the run goes on across calls.
+#
+# A dry run on a CPU-only machine: TRAIN_CONFIG=quick BENCH=0 scripts/gpu-session.sh \
+#   target/release/yokai out/dry 120 cpu
+set -uo pipefail
+bin=${1:?usage: gpu-session.sh BINARY OUT [SECONDS] [DEVICE] [RUN_TAR]}
+out=${2:?usage: gpu-session.sh BINARY OUT [SECONDS] [DEVICE] [RUN_TAR]}
+budget=${3:-540}
+device=${4:-cuda}
+run_tar=${5:-}
+config=${TRAIN_CONFIG:-ippo-9c-2p}
+start=$(date +%s)
+left() { echo $((budget - ($(date +%s) - start))); }
+mkdir -p "$out"
+exec > >(tee -a "$out/session.log") 2>&1
+here=$(cd "$(dirname "$0")" && pwd)
+
+if [[ $bin == *.xz ]]; then
+    xz -dc "$bin" > /tmp/yokai && chmod +x /tmp/yokai && bin=/tmp/yokai
+fi
+echo "== $(date -u +%FT%TZ) $($bin --version 2>&1) on $device; budget ${budget} s"
+command -v nvidia-smi > /dev/null && nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv,noheader
+nproc
+
+if [ "$device" = cuda ]; then
+    # NVRTC compiles every kernel against the CUDA headers (CUDA_PATH/include/cuda_fp16.h);
+    # the toolkit or the pip wheels of PyTorch's CUDA hold them.
+    if [ -z "${CUDA_PATH:-}" ] && [ ! -f /usr/local/cuda/include/cuda_fp16.h ]; then
+        for d in $(python3 -c 'import nvidia, os; [print(os.path.join(p, s)) for p in nvidia.__path__ for s in sorted(os.listdir(p))]' 2> /dev/null); do
+            if [ -f "$d/include/cuda_fp16.h" ]; then export CUDA_PATH=$d; break; fi
+        done
+    fi
+    # libnvrtc.so.13 (cudarc loads it by that name): the toolkit's lib64, else the pip wheels'.
+    for d in "${CUDA_PATH:-/usr/local/cuda}/lib64" /usr/local/cuda/lib64 \
+        $(python3 -c 'import nvidia, os; [print(os.path.join(r, "")) for p in nvidia.__path__ for r, _, fs in os.walk(p) if any(f.startswith("libnvrtc.so") for f in fs)]' 2> /dev/null); do
+        if ls "$d"/libnvrtc.so* > /dev/null 2>&1; then export LD_LIBRARY_PATH="$d:${LD_LIBRARY_PATH:-}"; break; fi
+    done
+    echo "CUDA_PATH=${CUDA_PATH:-(unset: /usr/local/cuda)} LD_LIBRARY_PATH=${LD_LIBRARY_PATH:-}"
+fi
+
+echo "== device check: 2 updates of quick on $device"
+rm -rf /tmp/gpu-check
+timeout 120 "$bin" train quick --device "$device" --seeds 0 --max-updates 2 --eval-games 0 \
+    --out /tmp/gpu-check 2>&1 | tr '\r' '\n' | grep -v -e '^\s*$' -e '^seed 0 \['
+status=${PIPESTATUS[0]}
+echo "exit status $status"
+[ "$status" = 0 ] || { echo "the device does not train: stopping here"; exit 1; }
+python3 - /tmp/gpu-check/seed-0/metrics.jsonl <<'PY'
+import json, sys
+for line in open(sys.argv[1]):
+    s = json.loads(line)
+    print(f"quick update {s['update']}: {s['sps']:.0f} env steps/s, rollout {s['rollout_seconds']:.2f} s, learning {s['learn_seconds']:.2f} s")
+PY
+
+if [ "${BENCH:-1}" != 0 ]; then
+    echo "== the paper's batch: 3 updates each of ippo-9c-2p and ippo-16c-2p ($(left) s left)"
+    "$here/gpu-bench.sh" "$bin" /tmp/gpu-bench 3 "$device" | tee "$out/bench.txt"
+fi
+
+run=/tmp/gpu-run/$config
+rm -rf /tmp/gpu-run && mkdir -p /tmp/gpu-run
+resume=()
+if [ -n "$run_tar" ] && [ -f "$run_tar" ]; then
+    tar -xf "$run_tar" -C /tmp/gpu-run && resume=(--resume)
+    echo "== resuming $(tail -1 "$run/seed-0/metrics.jsonl" | python3 -c 'import json,sys; s=json.load(sys.stdin); print("update", s["update"], "at", s["env_steps"], "env steps")')"
+fi
+chunk=5
+while :; do
+    t0=$(date +%s)
+    # Stop while there is time to tar the run: a chunk that cannot finish is not started.
+    [ "$(left)" -gt 60 ] || break
+    echo "== training $config on $device: $chunk more updates ($(left) s left)"
+    timeout $(($(left) - 30)) "$bin" train "$config" --device "$device" --seeds 0 --max-updates "$chunk" \
+        --eval-games 0 --out "$run" "${resume[@]}" 2>&1 | tr '\r' '\n' | grep -v -e '^\s*$' -e '^seed 0 \['
+    [ "${PIPESTATUS[0]}" = 0 ] || { echo "training stopped with status ${PIPESTATUS[0]}"; break; }
+    resume=(--resume)
+    took=$(($(date +%s) - t0))
+    # The next chunk fills about a third of what is left, from this chunk's pace.
+    chunk=$(( ($(left) / 3) * chunk / (took > 0 ? took : 1) ))
+    [ "$chunk" -ge 1 ] || break
+done
+if [ -f "$run/seed-0/metrics.jsonl" ]; then
+    cp "$run/seed-0/metrics.jsonl" "$out/metrics-$config.jsonl"
+    tar -cf "$out/run-$config.tar" -C /tmp/gpu-run "$config"
+    tail -1 "$run/seed-0/metrics.jsonl"
+fi
+echo "== done in $(($(date +%s) - start)) s"
