@@ -12,6 +12,8 @@ disk_report() { echo "disk ($1): $(df -h . | awk 'NR==2 {print $4 " free of " $2
 disk_report start
 trap 'disk_report end' EXIT
 cargo fmt --all -- --check
+# The CUDA build's stand-in crate is its own workspace (vendor/cubecl-llvm-nvrtc).
+rustfmt --edition 2024 --check vendor/cubecl-llvm-nvrtc/src/lib.rs
 cargo clippy --workspace --all-targets --release -- -D warnings
 # The GPU builds (burn's Vulkan and CUDA runtimes) are compiled, not run: CI has no GPU, and
 # this keeps `--features vulkan` and `--features cuda` (with cubecl-llvm patched out for

@@ -81,8 +81,9 @@ pub struct Args {
     /// beside it, up to float rounding with a different thread count.
     #[arg(long)]
     jobs: Option<usize>,
-    /// Where the network trains: `cpu` (always built), `vulkan` or `cuda` (GPU; built with
-    /// `--features vulkan` / `--features cuda`). The environment steps on the CPU either way.
+    /// Where the network trains: `cpu` (always built), `cuda` or `vulkan` (GPU; built with
+    /// `--features cuda` / `--features vulkan`), or `gpu` for the GPU backend built in (CUDA
+    /// first). The environment steps on the CPU either way.
     #[arg(long, default_value = "cpu")]
     device: yokai_train::Backend,
     /// Off-Belief Learning configs: train these levels in sequence, `1..3` (levels 1 and 2)

@@ -211,8 +211,12 @@ impl FromStr for Backend {
     fn from_str(s: &str) -> Result<Backend, BackendError> {
         match s.to_ascii_lowercase().as_str() {
             "cpu" | "flex" => Ok(Backend::Cpu),
-            "vulkan" | "gpu" => Ok(Backend::Vulkan),
+            "vulkan" => Ok(Backend::Vulkan),
             "cuda" => Ok(Backend::Cuda),
+            // The GPU backend built in, CUDA first; in a CPU build, CUDA, so that the error
+            // names the feature to build.
+            "gpu" if !Backend::Cuda.is_built() && Backend::Vulkan.is_built() => Ok(Backend::Vulkan),
+            "gpu" => Ok(Backend::Cuda),
             _ => Err(BackendError::Unknown(s.to_string())),
         }
     }
@@ -227,7 +231,10 @@ mod tests {
         for b in Backend::ALL {
             assert_eq!(b.name().parse::<Backend>(), Ok(b));
         }
-        assert_eq!("GPU".parse::<Backend>(), Ok(Backend::Vulkan));
+        let gpu = "GPU".parse::<Backend>().unwrap();
+        assert_ne!(gpu, Backend::Cpu);
+        assert!(gpu.is_built() || !Backend::Vulkan.is_built(), "{gpu}");
+        assert!(gpu == Backend::Cuda || !Backend::Cuda.is_built(), "{gpu}");
         let e = "tpu".parse::<Backend>().unwrap_err().to_string();
         assert!(
             e.contains("`tpu`") && e.contains("cpu, vulkan or cuda"),

@@ -10,8 +10,8 @@
 
 use core::fmt;
 
-use cubecl_core::ir::nvidia::SmArch;
 use cubecl_core::ir::DeviceProperties;
+use cubecl_core::ir::nvidia::SmArch;
 use cubecl_environment::backtrace::BackTrace;
 use cubecl_runtime::compiler::{CompilationError, Compiler};
 use cubecl_runtime::kernel::{BufferIOAttr, KernelDefinition};
