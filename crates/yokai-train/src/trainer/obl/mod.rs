@@ -37,7 +37,7 @@ use memory::step_along;
 use partners::{Learner, PartnerNet, Partners};
 use rand_chacha::rand_core::SeedableRng;
 use rand_chacha::ChaCha8Rng;
-use yokai_engine::{derive_seed, Card, Colour, Game, Part, Seat};
+use yokai_engine::{derive_seed, Colour, Game, Part, Seat};
 use yokai_vec::{episode_seed, Encoding};
 
 impl<E: Encoder, M: Recurrent> Trainer<E, M> {
@@ -61,9 +61,9 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         let mut partner_rng =
             ChaCha8Rng::seed_from_u64(derive_seed(derive_seed(self.seed, 0x0B2), step));
         let colourings = match &self.previous {
-            None if self.config.obl.oracle => {
-                (0..n).map(|i| true_colours(self.env.game(i))).collect()
-            }
+            None if self.config.obl.oracle => (0..n)
+                .map(|i| self.env.game(i).deal().card_colours)
+                .collect(),
             None => (0..n)
                 .map(|i| {
                     let game = self.env.game(i);
@@ -177,13 +177,6 @@ pub(super) struct OblStep {
     /// Per game, the game recoloured with the draw from the acting seat's belief: the world
     /// its fictitious continuation ran in, where the END term values ending too.
     pub worlds: Vec<Game>,
-}
-
-/// The colour of every card of `game`, by card id.
-fn true_colours(game: &Game) -> Vec<Colour> {
-    (0..game.config().cards())
-        .map(|k| game.colour_of(Card(k as u8)))
-        .collect()
 }
 
 /// Every seat of `game` but `seat`.

@@ -89,7 +89,9 @@ fn partner_memories_replayed_in_the_true_colours_are_the_real_ones() {
     let real = net
         .act(&obs, &trainer.state.hidden, &trainer.keeps(), &[], &dev, 1)
         .states;
-    let truths: Vec<Vec<Colour>> = (0..8).map(|i| true_colours(trainer.env.game(i))).collect();
+    let truths: Vec<Vec<Colour>> = (0..8)
+        .map(|i| trainer.env.game(i).deal().card_colours)
+        .collect();
     let seats: Vec<Vec<Seat>> = (0..8)
         .map(|i| partners_of(trainer.env.game(i), trainer.env.game(i).current_seat()))
         .collect();
@@ -180,8 +182,10 @@ fn the_oracle_draws_the_true_colours() {
         let step = trainer
             .obl_targets(&net, 0, &vec![end; trainer.rows], 1.0)
             .unwrap();
-        let truths: Vec<Vec<Colour>> = (0..8).map(|i| true_colours(trainer.env.game(i))).collect();
-        let drawn: Vec<Vec<Colour>> = step.worlds.iter().map(true_colours).collect();
+        let truths: Vec<Vec<Colour>> = (0..8)
+            .map(|i| trainer.env.game(i).deal().card_colours)
+            .collect();
+        let drawn: Vec<Vec<Colour>> = step.worlds.iter().map(|w| w.deal().card_colours).collect();
         (drawn, truths)
     };
     let (drawn, truths) = worlds(true);
