@@ -114,7 +114,9 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
     }
 
     /// Continue a run from a checkpoint on `infer_device` (any backend: checkpoints hold
-    /// plain f32 values, so a run can move between the CPU and a GPU).
+    /// plain f32 values, so a run can move between the CPU and a GPU). In a build with a GPU
+    /// feature, make the device burn's default first ([`crate::Backend::make_burn_default`]):
+    /// burn loads the optimiser state on its default device, which is otherwise the GPU.
     pub fn resume_on(path: &Path, infer_device: Device) -> Result<Trainer<E, M>, TrainError> {
         let file = Container::read(path)?;
         let header = read_header(&file, path)?;
