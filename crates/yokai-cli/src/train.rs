@@ -23,6 +23,7 @@ const PRESETS: &[(&str, &str)] = presets!(
     "quick",
     "quick-op",
     "obl-quick",
+    "obl-cpu",
     "obl-9c-2p",
     "cpu",
     "cpu-fast",
@@ -413,6 +414,24 @@ mod tests {
         fast.network.hidden = cpu.network.hidden;
         fast.ppo.epochs = cpu.ppo.epochs;
         assert_eq!(cpu, fast);
+    }
+
+    /// `obl-cpu` says it is OBL with `cpu-fast`'s levers, 2M steps per level and four
+    /// decisions per continuation (the learner as partner); nothing else may drift.
+    #[test]
+    fn obl_cpu_is_cpu_fast_with_obls_targets() {
+        let preset = |name: &str| {
+            let (_, text) = PRESETS.iter().find(|(n, _)| *n == name).unwrap();
+            TrainConfig::from_toml_str(text, name).unwrap()
+        };
+        let (fast, mut obl) = (preset("cpu-fast"), preset("obl-cpu"));
+        assert_eq!((obl.obl.level, obl.obl.decisions), (1, 4));
+        assert_eq!(obl.obl.partner, yokai_train::config::OblPartner::Learner);
+        assert_eq!(obl.ppo.total_steps, 2_000_000);
+        obl.algorithm.name = fast.algorithm.name.clone();
+        obl.obl = Default::default();
+        obl.ppo.total_steps = fast.ppo.total_steps;
+        assert_eq!(fast, obl);
     }
 
     #[test]

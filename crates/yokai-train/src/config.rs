@@ -88,6 +88,15 @@ pub struct OblConfig {
     pub oracle: bool,
     /// Who plays the partners' turns inside the fictitious continuations.
     pub partner: OblPartner,
+    /// How many of the acting seat's own decisions a fictitious continuation covers before
+    /// it bootstraps from the learner's value. 1 (the reference implementation's one-step
+    /// target): the partners play until the seat is to act again. n > 1: the seat plays
+    /// its next n − 1 decisions in the fictitious world too (as the learner, with its memory
+    /// of that world), so the target is an n-decision return of the world drawn once from
+    /// the belief, as OBL's operator defines the value ("past by π_{ℓ−1}, future by π_ℓ");
+    /// the longer return carries credit further per update, as a GAE λ above 0 does for
+    /// IPPO. Needs `partner = "learner"`: in the operator, every future move is π_ℓ's.
+    pub decisions: u32,
 }
 
 /// Who plays the partners inside OBL's fictitious continuations (`obl.partner`).
@@ -113,6 +122,7 @@ impl Default for OblConfig {
             belief_hidden: 64,
             oracle: false,
             partner: OblPartner::Previous,
+            decisions: 1,
         }
     }
 }
@@ -659,6 +669,19 @@ impl TrainConfig {
                 "must be at least 1",
             );
         }
+        if self.obl.decisions == 0 {
+            return bad(
+                "obl.decisions",
+                "must be at least 1 (1: bootstrap where the seat acts again)",
+            );
+        }
+        if self.obl.decisions > 1 && self.obl.partner != OblPartner::Learner {
+            return bad(
+                "obl.decisions",
+                "above 1 has the learner play on after the seat's next decision, so the \
+                 partners must be the learner too: set obl.partner = \"learner\"",
+            );
+        }
         if self.obl.level >= 1 {
             if self.algorithm.symmetries != SymmetrySet::None {
                 return bad(
@@ -836,6 +859,23 @@ mod tests {
         );
         let e = refused("[obl]\nlevel = 1\npartner = \"me\"\n", "x");
         assert!(e.contains("partner"), "{e}");
+        // Longer continuations have the learner play on, so its partners must be it too.
+        let e = refused("[obl]\nlevel = 1\ndecisions = 3\n", "x");
+        assert!(e.contains("obl.decisions") && e.contains("learner"), "{e}");
+        let e = refused("[obl]\nlevel = 1\ndecisions = 0\n", "x");
+        assert!(
+            e.contains("obl.decisions") && e.contains("at least 1"),
+            "{e}"
+        );
+        let c = TrainConfig::from_toml_str(
+            "[obl]\nlevel = 1\npartner = \"learner\"\ndecisions = 3\n",
+            "x",
+        )
+        .unwrap();
+        assert_eq!(
+            (c.obl.decisions, TrainConfig::default().obl.decisions),
+            (3, 1)
+        );
         let e = refused("[ppo]\ncluster_shaping = 1.0\n[obl]\nlevel = 1\n", "x");
         assert!(e.contains("ppo.cluster_shaping"), "{e}");
         assert!(TrainConfig::from_toml_str("[obl]\nlevel = 1\n", "x").is_ok());

@@ -654,6 +654,35 @@ fn the_quick_preset_learns_to_hint_and_to_cluster_beyond_random_play() {
     );
 }
 
+/// OBL's learning test: the shipped `obl-cpu` preset (level 1, four decisions per
+/// fictitious continuation) learns within 325 updates (666k steps), measured on its own
+/// training games. With one decision (OBL's one-step targets) level 1 stays at R −2.6 to
+/// −2.9 at every CPU budget measured, up to 10M steps (docs/training.md), and wins almost
+/// never: in a 2M-step run of this preset with `obl.decisions = 1` (2 threads), no 25
+/// updates after the 250th averaged above R −2.72 or a win rate of 0.01. This test's run
+/// (one thread) averaged R −0.08 and a win rate of 0.32 over updates 301–325. A change that
+/// cuts the longer continuation short, or breaks OBL's targets, fails here.
+#[test]
+fn the_obl_cpu_preset_learns_past_where_one_step_obl_stays() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../configs/obl-cpu.toml");
+    let mut config = TrainConfig::from_file(std::path::Path::new(path)).unwrap();
+    config.run.threads = 1;
+    let stats = one_thread(|| {
+        let mut t = Trainer::<MlpEncoder>::new(config, 0).unwrap();
+        (0..325).map(|_| t.update().unwrap()).collect::<Vec<_>>()
+    });
+    let last: Vec<_> = stats[300..].iter().filter_map(|s| s.games).collect();
+    let mean = |f: &dyn Fn(&yokai_engine::Metrics) -> f64| {
+        last.iter().map(f).sum::<f64>() / last.len() as f64
+    };
+    let (reward, wins) = (mean(&|m| m.reward), mean(&|m| m.win_rate));
+    assert!(
+        reward > -1.5,
+        "mean R of updates 301-325 is {reward:.2}: not past one-step OBL's -2.7 by 1.2"
+    );
+    assert!(wins > 0.1, "win rate {wins:.2} in updates 301-325");
+}
+
 /// Mean P(END) at the first step of `n` fresh deals, under `t`'s network.
 fn p_end_at_start(t: &Trainer<MlpEncoder>, n: usize) -> f32 {
     use burn::prelude::*;

@@ -1,10 +1,11 @@
 //! One fictitious continuation: a seat's action in a world drawn from its belief, then the
-//! partners' play until the seat is to act again.
+//! partners' play until the seat is to act again (or, with `decisions` n > 1, until it is
+//! to act for the n-th time, its own moves in between played in that world too).
 //!
 //! How far it runs (docs/training.md): a turn is four substeps of one seat, so after the
 //! seat's OBSERVE or MOVE it acts again at once (one step), and after its REVEAL or PLACE
 //! the partners play their turns first (1 + 4·(P − 1) steps). The paper's K = 4·P bounds
-//! this and is kept as a limit; with the rules as they are it never binds.
+//! this (per decision) and is kept as a limit; with the rules as they are it never binds.
 
 use rand_chacha::rand_core::Rng;
 use rand_chacha::ChaCha8Rng;
@@ -58,6 +59,7 @@ pub fn continue_fictitiously(
         &mut |_, games| vec![partner(games[0])],
         shaping,
         gamma,
+        1,
         horizon,
     )
     .map_err(|(_, e)| e)?;
@@ -66,15 +68,20 @@ pub fn continue_fictitiously(
 
 /// [`continue_fictitiously`] for many games at once, `starts` holding each one's game
 /// already recoloured (the fictitious world, [`Game::with_card_colours`]) and the action.
-/// The continuations step in lockstep, so that `partners` runs once per step for all that
-/// are still open (the partners' network then steps all their partner seats in one batch):
-/// it is given their indices in `starts` and their fictitious games, and returns an action
-/// index for each, in order. An error names the start.
+/// The continuations step in lockstep, so that `players` runs once per step for all that
+/// are still open (the network then steps all their seats in one batch): it is given their
+/// indices in `starts` and their fictitious games, and returns an action index of each
+/// game's acting seat, in order.
+///
+/// Each continuation stops where its seat is to act for the `decisions`-th time since the
+/// start (1: where it acts again; the seat's own moves before that come from `players`
+/// too), where its game ends, or after `horizon` steps. An error names the start.
 pub fn continue_all(
     starts: &[(&Game, usize)],
-    partners: &mut impl FnMut(&[usize], &[&Game]) -> Vec<usize>,
+    players: &mut impl FnMut(&[usize], &[&Game]) -> Vec<usize>,
     shaping: f32,
     gamma: f32,
+    decisions: usize,
     horizon: usize,
 ) -> Result<Vec<Continuation>, (usize, ContinuationError)> {
     let mut fict: Vec<Game> = starts.iter().map(|&(g, _)| g.clone()).collect();
@@ -86,6 +93,7 @@ pub fn continue_all(
         })
         .collect();
     let mut discount = vec![1f32; starts.len()];
+    let mut reached = vec![0usize; starts.len()];
     let mut next: Vec<usize> = starts.iter().map(|s| s.1).collect();
     let mut open: Vec<usize> = (0..starts.len()).collect();
     while !open.is_empty() {
@@ -97,14 +105,14 @@ pub fn continue_all(
             discount[k] *= gamma;
             c.states.push(fict[k].clone());
             c.done = step.done;
-            let again = fict[k].current_seat() == starts[k].0.current_seat();
-            if !(step.done || again || c.states.len() >= horizon) {
+            reached[k] += (fict[k].current_seat() == starts[k].0.current_seat()) as usize;
+            if !(step.done || reached[k] >= decisions || c.states.len() >= horizon) {
                 still.push(k);
             }
         }
         if !still.is_empty() {
             let games: Vec<&Game> = still.iter().map(|&k| &fict[k]).collect();
-            for (&k, a) in still.iter().zip(partners(&still, &games)) {
+            for (&k, a) in still.iter().zip(players(&still, &games)) {
                 next[k] = a;
             }
         }
@@ -224,6 +232,70 @@ mod tests {
         }
     }
 
+    /// With `decisions` = d the continuation stops where its seat is to act for the d-th
+    /// time (its own moves in between asked of the players), so it extends the one of d − 1
+    /// decisions: over games at random points of play, continued with a players' rule that
+    /// is a function of the game alone, d = 1..4.
+    #[test]
+    fn a_continuation_of_d_decisions_stops_at_the_seats_dth_turn_and_extends_d_minus_one() {
+        let config = Config::from_name("9c-2p").unwrap();
+        let mut rng = ChaCha8Rng::seed_from_u64(9);
+        let players = |g: &Game| {
+            let mut legal = g.legal_actions(g.current_seat());
+            legal.retain(|&a| a != Action::End);
+            g.config().encode(legal[(g.steps() * 5 + 3) % legal.len()])
+        };
+        let mut checked = 0;
+        for d in 0..30u64 {
+            let mut g = Game::new(config, 100 + d);
+            for _ in 0..(d % 13) {
+                let a = players(&g);
+                g.apply_index(a).unwrap();
+            }
+            let seat = g.current_seat();
+            let colours = sample_first_hand_consistent(&g, seat, &mut rng);
+            let world = g.with_card_colours(&colours).unwrap();
+            let action = players(&world);
+            let mut before: Option<Continuation> = None;
+            for decisions in 1..=4 {
+                let mut asked_of_seat = 0;
+                let c = continue_all(
+                    &[(&world, action)],
+                    &mut |_, gs| {
+                        asked_of_seat += (gs[0].current_seat() == seat) as usize;
+                        vec![players(gs[0])]
+                    },
+                    1.0,
+                    0.99,
+                    decisions,
+                    64,
+                )
+                .unwrap()
+                .remove(0);
+                let turns = c.states.iter().filter(|s| s.current_seat() == seat).count();
+                if c.done {
+                    assert!(turns <= decisions);
+                } else {
+                    assert_eq!(turns, decisions, "game {d}: stops at the d-th decision");
+                    assert_eq!(c.states.last().unwrap().current_seat(), seat);
+                    assert_eq!(asked_of_seat, decisions - 1, "the seat's moves in between");
+                    checked += 1;
+                }
+                if let Some(b) = &before {
+                    assert_eq!(c.states[..b.steps()], b.states[..], "extends d − 1");
+                    if !b.done {
+                        assert!(c.steps() > b.steps());
+                    }
+                }
+                before = Some(c);
+            }
+        }
+        assert!(
+            checked > 60,
+            "most continuations ran their decisions: {checked}"
+        );
+    }
+
     /// The continuations of many games stepped in lockstep are each what its game's own
     /// continuation gives, with a partner that is a function of the game alone (so that the
     /// order of the partner's calls cannot matter): games at random points of random play,
@@ -276,6 +348,7 @@ mod tests {
             },
             1.0,
             0.99,
+            1,
             8,
         )
         .unwrap();

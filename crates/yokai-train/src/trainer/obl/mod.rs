@@ -8,6 +8,8 @@
 //!
 //! `target = Σ_{j<k} γʲ r'_j + γᵏ V(h'_k)` (no bootstrap where the game ended), where
 //! `h'_0` is i's state at t (after reading o_t) and `h'_{j+1} = GRU(h'_j, o'_{j+1})`.
+//! With `obl.decisions` = n > 1 the continuation runs on until i is to act for the n-th
+//! time, the learner playing i's moves in between from `h'_j` (and its partners).
 //!
 //! PPO then uses `target − V(h_t)` as the advantage of the action and `target` as the value
 //! target of that row; the waiting seats' rows carry neither (their value loss is off), so
@@ -89,15 +91,21 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             .collect();
         // Partners play only where the action ends the seat's turn and not the game (after
         // OBSERVE or MOVE the seat acts again at once): only there are their memories built.
+        // With more than one decision the seat plays on as well, wherever the game goes on:
+        // the learner's network then steps the seat itself first, then its partners.
+        let decisions = self.config.obl.decisions as usize;
         let seats: Vec<Vec<Seat>> = starts
             .iter()
             .map(|&(g, a)| {
                 let mut after = g.clone();
                 let done = after.apply_index(a).map(|s| s.done).unwrap_or(true);
-                if done || after.current_seat() == g.current_seat() {
+                let seat = g.current_seat();
+                if done || (decisions == 1 && after.current_seat() == seat) {
                     Vec::new()
+                } else if decisions == 1 {
+                    partners_of(g, seat)
                 } else {
-                    partners_of(g, g.current_seat())
+                    std::iter::once(seat).chain(partners_of(g, seat)).collect()
                 }
             })
             .collect();
@@ -110,19 +118,47 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         };
         let mut partners = match network {
             None => Partners::Random(&mut partner_rng),
-            Some(net) => Partners::Network {
+            Some(net) if decisions == 1 => Partners::Network {
                 net,
                 states: self.partner_memories(net, &colourings, &worlds, &seats)?,
                 seats,
                 rng: &mut partner_rng,
             },
+            Some(net) => {
+                // The seat's own memory at t holds in the drawn world as it is (the draw
+                // keeps every colour the seat has seen): only its partners' are replayed.
+                let others: Vec<Vec<Seat>> =
+                    seats.iter().map(|s| s[1.min(s.len())..].to_vec()).collect();
+                let replayed = self.partner_memories(net, &colourings, &worlds, &others)?;
+                let states = starts
+                    .iter()
+                    .zip(replayed)
+                    .enumerate()
+                    .map(|(i, ((g, _), partners))| match seats[i].is_empty() {
+                        true => Vec::new(),
+                        false => self
+                            .acting_memory(i, g.current_seat())
+                            .iter()
+                            .copied()
+                            .chain(partners)
+                            .collect(),
+                    })
+                    .collect();
+                Partners::Network {
+                    net,
+                    states,
+                    seats,
+                    rng: &mut partner_rng,
+                }
+            }
         };
         let continued = continue_all(
             &starts,
             &mut |which, games| partners.act(which, games),
             shaping,
             gamma,
-            4 * p,
+            decisions,
+            4 * p * decisions,
         )
         .map_err(|(i, e)| TrainError::Obl(format!("env {i}, step {t}: {e}")))?;
         let runs: Vec<(usize, Seat, Continuation)> = starts
@@ -132,15 +168,34 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             .map(|(i, ((g, _), c))| (i * p + g.current_seat().index(), g.current_seat(), c))
             .collect();
         // Each seat's memory reads its observations of the fictitious steps, from its state at
-        // t; a continuation that ended needs no value, so its seat reads nothing.
-        let sequences: Vec<&[Game]> = runs.iter().map(|(_, _, c)| &c.states[..]).collect();
+        // t; a continuation that ended needs no value, so its seat reads nothing. Where the
+        // seat played on, the network has read every state but the last for it already.
+        let (from_last, mut states): (bool, Vec<Vec<f32>>) = match partners.into_states() {
+            Some(network) if decisions > 1 => (
+                true,
+                network
+                    .into_iter()
+                    .map(|mut m| {
+                        m.truncate(hsz);
+                        m
+                    })
+                    .collect(),
+            ),
+            _ => (
+                false,
+                runs.iter()
+                    .enumerate()
+                    .map(|(i, (_, seat, _))| self.acting_memory(i, *seat).to_vec())
+                    .collect(),
+            ),
+        };
+        let sequences: Vec<&[Game]> = runs
+            .iter()
+            .map(|(_, _, c)| &c.states[if from_last { c.steps() - 1 } else { 0 }..])
+            .collect();
         let seats: Vec<Vec<Seat>> = runs
             .iter()
             .map(|(_, seat, c)| if c.done { Vec::new() } else { vec![*seat] })
-            .collect();
-        let mut states: Vec<Vec<f32>> = runs
-            .iter()
-            .map(|(row, _, _)| self.state.hidden[row * hsz..][..hsz].to_vec())
             .collect();
         step_along(
             &sequences,
@@ -188,6 +243,13 @@ fn partners_of(game: &Game, seat: Seat) -> Vec<Seat> {
 }
 
 impl<E: Encoder, M: Recurrent> Trainer<E, M> {
+    /// The learner's memory of `seat` in game `i` after it read this step's observation.
+    fn acting_memory(&self, i: usize, seat: Seat) -> &[f32] {
+        let hsz = self.model.hidden_size();
+        let row = i * self.game.players() + seat.index();
+        &self.state.hidden[row * hsz..][..hsz]
+    }
+
     /// The first state of game `i`'s current episode (its deal) and the actions since.
     fn episode_so_far(&self, i: usize) -> (Game, &[u32]) {
         let seed = episode_seed(self.env_seed(), i, self.env.episodes(i));

@@ -81,6 +81,15 @@ pub(super) enum Partners<'a> {
 }
 
 impl Partners<'_> {
+    /// A network's memories of each continuation's seats after the play (`None` for random
+    /// play, which has none).
+    pub fn into_states(self) -> Option<Vec<Vec<f32>>> {
+        match self {
+            Partners::Random(_) => None,
+            Partners::Network { states, .. } => Some(states),
+        }
+    }
+
     /// The acting seat's action index in each of `games`, the fictitious games of the
     /// continuations `which` (a partner of the seat each continuation is for). A network
     /// steps every partner seat of them in one batch.
@@ -112,7 +121,7 @@ impl Partners<'_> {
                     let j = seats[k]
                         .iter()
                         .position(|&s| s == game.current_seat())
-                        .expect("the continuation asks only for partners' actions");
+                        .expect("the continuation asks only for the seats given rows");
                     let logits = stepped.logits(at + j).expect("the acting seat");
                     actions.push(sample_legal(game, logits, rng));
                     at += m;

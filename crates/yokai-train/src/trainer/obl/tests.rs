@@ -228,3 +228,115 @@ fn the_end_term_values_ending_in_the_world_drawn_from_the_belief() {
         "every world paid what the true board pays: {truths:?}"
     );
 }
+
+/// With `obl.decisions` > 1 the seat plays on inside its continuation, its memory stepped
+/// by the network beside its partners', and the bootstrap reads that memory after one more
+/// step on the last state: the same memory as stepping the seat's state at t along every
+/// state of the continuation (what one decision does). Games mid-episode, true colours
+/// (so that the real memories are every seat's memory of the world), two decisions.
+#[test]
+fn a_seat_that_plays_on_carries_the_memory_of_its_whole_continuation() {
+    let mut c = config();
+    c.ppo.rollout_steps = 11;
+    let mut trainer = Trainer::<MlpEncoder>::new(c, 8).unwrap();
+    trainer
+        .collect(1.0, &mut ChaCha8Rng::seed_from_u64(4))
+        .unwrap();
+    let net = trainer.model.valid();
+    let (rows, l, na) = (trainer.rows, trainer.obs_len, trainer.n_actions);
+    let (mut obs, mut masks) = (vec![0f32; rows * l], vec![0f32; rows * na]);
+    trainer.view(&mut obs, &mut masks);
+    let dev = trainer.infer_device.clone();
+    let real = net
+        .act(&obs, &trainer.state.hidden, &trainer.keeps(), &[], &dev, 1)
+        .states;
+    let h = trainer.model.hidden_size();
+    let learner = Learner {
+        net: &net,
+        device: &dev,
+    };
+    let games: Vec<Game> = (0..8).map(|i| trainer.env.game(i).clone()).collect();
+    use rand_chacha::rand_core::Rng;
+    let mut pick = ChaCha8Rng::seed_from_u64(1);
+    let starts: Vec<(&Game, usize)> = games
+        .iter()
+        .map(|g| {
+            let mut legal = g.legal_actions(g.current_seat());
+            legal.retain(|&a| a != Action::End);
+            let k = (pick.next_u64() % legal.len() as u64) as usize;
+            (g, g.config().encode(legal[k]))
+        })
+        .collect();
+    let seats: Vec<Vec<Seat>> = games
+        .iter()
+        .map(|g| {
+            std::iter::once(g.current_seat())
+                .chain(partners_of(g, g.current_seat()))
+                .collect()
+        })
+        .collect();
+    let states = seats
+        .iter()
+        .enumerate()
+        .map(|(i, s)| {
+            s.iter()
+                .flat_map(|seat| real[(2 * i + seat.index()) * h..][..h].to_vec())
+                .collect()
+        })
+        .collect();
+    let mut rng = ChaCha8Rng::seed_from_u64(2);
+    let mut partners = Partners::Network {
+        net: &learner,
+        seats: seats.clone(),
+        states,
+        rng: &mut rng,
+    };
+    let runs = continue_all(&starts, &mut |w, g| partners.act(w, g), 1.0, 0.99, 2, 16).unwrap();
+    let carried: Vec<Vec<f32>> = partners
+        .into_states()
+        .unwrap()
+        .into_iter()
+        .map(|mut m| {
+            m.truncate(h);
+            m
+        })
+        .collect();
+    let own: Vec<Vec<Seat>> = seats.iter().map(|s| vec![s[0]]).collect();
+    let (mut fast, mut slow) = (carried, Vec::new());
+    for (i, s) in own.iter().enumerate() {
+        slow.push(real[(2 * i + s[0].index()) * h..][..h].to_vec());
+    }
+    let last: Vec<&[Game]> = runs.iter().map(|c| &c.states[c.steps() - 1..]).collect();
+    let all: Vec<&[Game]> = runs.iter().map(|c| &c.states[..]).collect();
+    let mut recur = |o, s, k| learner.recur(o, s, k);
+    step_along(
+        &last,
+        &own,
+        &mut fast,
+        MlpEncoder::encoding(),
+        false,
+        &mut recur,
+    );
+    step_along(
+        &all,
+        &own,
+        &mut slow,
+        MlpEncoder::encoding(),
+        false,
+        &mut recur,
+    );
+    let longest = runs.iter().map(|c| c.steps()).max().unwrap();
+    assert!(
+        longest >= 6,
+        "some continuation went through a partner's turn: {longest}"
+    );
+    for i in 0..8 {
+        for (a, b) in fast[i].iter().zip(&slow[i]) {
+            assert!(
+                (a - b).abs() < 1e-5,
+                "game {i} ({} steps): {a} vs {b}",
+                runs[i].steps()
+            );
+        }
+    }
+}
