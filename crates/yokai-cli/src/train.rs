@@ -401,13 +401,15 @@ mod tests {
         }
     }
 
+    /// The shipped preset `name`, parsed.
+    fn preset(name: &str) -> TrainConfig {
+        let (_, text) = PRESETS.iter().find(|(n, _)| *n == name).unwrap();
+        TrainConfig::from_toml_str(text, name).unwrap()
+    }
+
     /// `cpu-fast` says it is `cpu` at width 64 with one epoch; nothing else may drift.
     #[test]
     fn cpu_fast_is_the_cpu_preset_at_width_64_with_one_epoch() {
-        let preset = |name: &str| {
-            let (_, text) = PRESETS.iter().find(|(n, _)| *n == name).unwrap();
-            TrainConfig::from_toml_str(text, name).unwrap()
-        };
         let (cpu, mut fast) = (preset("cpu"), preset("cpu-fast"));
         assert_eq!((fast.network.hidden, fast.ppo.epochs), (64, 1));
         assert_ne!(cpu, fast);
@@ -420,10 +422,6 @@ mod tests {
     /// decisions per continuation (the learner as partner); nothing else may drift.
     #[test]
     fn obl_cpu_is_cpu_fast_with_obls_targets() {
-        let preset = |name: &str| {
-            let (_, text) = PRESETS.iter().find(|(n, _)| *n == name).unwrap();
-            TrainConfig::from_toml_str(text, name).unwrap()
-        };
         let (fast, mut obl) = (preset("cpu-fast"), preset("obl-cpu"));
         assert_eq!((obl.obl.level, obl.obl.decisions), (1, 4));
         assert_eq!(obl.obl.partner, yokai_train::config::OblPartner::Learner);

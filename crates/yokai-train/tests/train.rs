@@ -625,23 +625,36 @@ fn normalized_entropy_reweights_only_the_entropy_bonus() {
     assert_ne!(params(0.05, false), params(0.05, true));
 }
 
+/// Seed 0 of the shipped preset `name` trained `updates` updates on one thread; the mean of
+/// a metric of the training games over the last `last` updates.
+fn last_games_of_preset(
+    name: &str,
+    updates: usize,
+    last: usize,
+) -> impl Fn(&dyn Fn(&yokai_engine::Metrics) -> f64) -> f64 {
+    let path = format!("{}/../../configs/{name}.toml", env!("CARGO_MANIFEST_DIR"));
+    let mut config = TrainConfig::from_file(std::path::Path::new(&path)).unwrap();
+    config.run.threads = 1;
+    let stats = one_thread(|| {
+        let mut t = Trainer::<MlpEncoder>::new(config, 0).unwrap();
+        (0..updates)
+            .map(|_| t.update().unwrap())
+            .collect::<Vec<_>>()
+    });
+    let games: Vec<_> = stats[updates - last..]
+        .iter()
+        .filter_map(|s| s.games)
+        .collect();
+    move |f| games.iter().map(f).sum::<f64>() / games.len() as f64
+}
+
 /// The learning test CI keeps: the shipped `quick` preset (pointer head) learns within
 /// 60 updates (123k steps), measured on its own training games, so a change that breaks
 /// learning fails here. Uniformly random legal play scores R −4.0 (docs/spec/rules.md §4) and never
 /// ending −4.27; the untrained network scores about −4.2 with 2.5 correct hints of 4.
 #[test]
 fn the_quick_preset_learns_to_hint_and_to_cluster_beyond_random_play() {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../configs/quick.toml");
-    let mut config = TrainConfig::from_file(std::path::Path::new(path)).unwrap();
-    config.run.threads = 1;
-    let stats = one_thread(|| {
-        let mut t = Trainer::<MlpEncoder>::new(config, 0).unwrap();
-        (0..60).map(|_| t.update().unwrap()).collect::<Vec<_>>()
-    });
-    let last: Vec<_> = stats[50..].iter().filter_map(|s| s.games).collect();
-    let mean = |f: &dyn Fn(&yokai_engine::Metrics) -> f64| {
-        last.iter().map(f).sum::<f64>() / last.len() as f64
-    };
+    let mean = last_games_of_preset("quick", 60, 10);
     let reward = mean(&|m| m.reward);
     let correct = mean(&|m| m.correct_hints);
     assert!(
@@ -664,17 +677,7 @@ fn the_quick_preset_learns_to_hint_and_to_cluster_beyond_random_play() {
 /// cuts the longer continuation short, or breaks OBL's targets, fails here.
 #[test]
 fn the_obl_cpu_preset_learns_past_where_one_step_obl_stays() {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../configs/obl-cpu.toml");
-    let mut config = TrainConfig::from_file(std::path::Path::new(path)).unwrap();
-    config.run.threads = 1;
-    let stats = one_thread(|| {
-        let mut t = Trainer::<MlpEncoder>::new(config, 0).unwrap();
-        (0..325).map(|_| t.update().unwrap()).collect::<Vec<_>>()
-    });
-    let last: Vec<_> = stats[300..].iter().filter_map(|s| s.games).collect();
-    let mean = |f: &dyn Fn(&yokai_engine::Metrics) -> f64| {
-        last.iter().map(f).sum::<f64>() / last.len() as f64
-    };
+    let mean = last_games_of_preset("obl-cpu", 325, 25);
     let (reward, wins) = (mean(&|m| m.reward), mean(&|m| m.win_rate));
     assert!(
         reward > -1.5,

@@ -18,6 +18,24 @@ fn config() -> TrainConfig {
     c
 }
 
+/// A trainer after one rollout from `seed` (the rollout's draws from `rng_seed`), games
+/// mid-episode, and every row's memory once it has read the current observation.
+fn after_a_rollout(c: TrainConfig, seed: u64, rng_seed: u64) -> (Trainer<MlpEncoder>, Vec<f32>) {
+    let mut trainer = Trainer::<MlpEncoder>::new(c, seed).unwrap();
+    trainer
+        .collect(1.0, &mut ChaCha8Rng::seed_from_u64(rng_seed))
+        .unwrap();
+    let net = trainer.model.valid();
+    let (rows, l, na) = (trainer.rows, trainer.obs_len, trainer.n_actions);
+    let (mut obs, mut masks) = (vec![0f32; rows * l], vec![0f32; rows * na]);
+    trainer.view(&mut obs, &mut masks);
+    let dev = trainer.infer_device.clone();
+    let real = net
+        .act(&obs, &trainer.state.hidden, &trainer.keeps(), &[], &dev, 1)
+        .states;
+    (trainer, real)
+}
+
 /// Ending at the first step: the target is R_END in a world drawn from the seat's
 /// level-1 belief, which knows nothing yet, so over many draws its mean is the mean
 /// R_END over all 1,680 colourings of the game's start square (computed here by
@@ -78,17 +96,9 @@ fn the_target_of_ending_at_the_start_is_the_mean_over_all_colourings() {
 fn partner_memories_replayed_in_the_true_colours_are_the_real_ones() {
     let mut c = config();
     c.ppo.rollout_steps = 13;
-    let mut trainer = Trainer::<MlpEncoder>::new(c, 9).unwrap();
-    let mut rng = ChaCha8Rng::seed_from_u64(2);
-    trainer.collect(1.0, &mut rng).unwrap();
+    let (trainer, real) = after_a_rollout(c, 9, 2);
     let net = trainer.model.valid();
-    let (rows, l, na) = (trainer.rows, trainer.obs_len, trainer.n_actions);
-    let (mut obs, mut masks) = (vec![0f32; rows * l], vec![0f32; rows * na]);
-    trainer.view(&mut obs, &mut masks);
     let dev = trainer.infer_device.clone();
-    let real = net
-        .act(&obs, &trainer.state.hidden, &trainer.keeps(), &[], &dev, 1)
-        .states;
     let truths: Vec<Vec<Colour>> = (0..8)
         .map(|i| trainer.env.game(i).deal().card_colours)
         .collect();
@@ -238,18 +248,9 @@ fn the_end_term_values_ending_in_the_world_drawn_from_the_belief() {
 fn a_seat_that_plays_on_carries_the_memory_of_its_whole_continuation() {
     let mut c = config();
     c.ppo.rollout_steps = 11;
-    let mut trainer = Trainer::<MlpEncoder>::new(c, 8).unwrap();
-    trainer
-        .collect(1.0, &mut ChaCha8Rng::seed_from_u64(4))
-        .unwrap();
+    let (trainer, real) = after_a_rollout(c, 8, 4);
     let net = trainer.model.valid();
-    let (rows, l, na) = (trainer.rows, trainer.obs_len, trainer.n_actions);
-    let (mut obs, mut masks) = (vec![0f32; rows * l], vec![0f32; rows * na]);
-    trainer.view(&mut obs, &mut masks);
     let dev = trainer.infer_device.clone();
-    let real = net
-        .act(&obs, &trainer.state.hidden, &trainer.keeps(), &[], &dev, 1)
-        .states;
     let h = trainer.model.hidden_size();
     let learner = Learner {
         net: &net,
