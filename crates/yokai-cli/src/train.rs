@@ -158,7 +158,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     if config.obl.level == 0 {
         return Err(anyhow!(
             "--levels trains Off-Belief Learning levels, but {name} is not an OBL config \
-             (its obl.level is 0; try obl-quick)"
+             (its obl.level is 0; try obl-cpu or obl-quick)"
         ));
     }
     // Levels count from 1: parse them as seeds are parsed, then check.
