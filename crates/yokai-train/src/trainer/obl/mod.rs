@@ -89,24 +89,28 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             .enumerate()
             .map(|(i, w)| (w, joint[i * p + w.current_seat().index()] as usize))
             .collect();
-        // Partners play only where the action ends the seat's turn and not the game (after
-        // OBSERVE or MOVE the seat acts again at once): only there are their memories built.
-        // With more than one decision the seat plays on as well, wherever the game goes on:
-        // the learner's network then steps the seat itself first, then its partners.
+        // The seat's own memory is the learner's, so where the learner plays the partners
+        // (`obl.partner = "learner"`, and so every config with more than one decision) the
+        // seat steps in the same batch as they do, first in its continuation's rows, from its
+        // memory at t: that holds in the drawn world as it is (the draw keeps every colour the
+        // seat has seen). Partners play only where the seat's action ends its turn and not the
+        // game (after OBSERVE or MOVE the seat acts again at once), unless the seat plays on
+        // for more decisions: only there are their memories replayed.
         let decisions = self.config.obl.decisions as usize;
+        let rides = self.config.obl.partner == OblPartner::Learner;
         let seats: Vec<Vec<Seat>> = starts
             .iter()
             .map(|&(g, a)| {
                 let mut after = g.clone();
-                let done = after.apply_index(a).map(|s| s.done).unwrap_or(true);
                 let seat = g.current_seat();
-                if done || (decisions == 1 && after.current_seat() == seat) {
-                    Vec::new()
-                } else if decisions == 1 {
-                    partners_of(g, seat)
-                } else {
-                    std::iter::once(seat).chain(partners_of(g, seat)).collect()
+                if after.apply_index(a).map(|s| s.done).unwrap_or(true) {
+                    return Vec::new();
                 }
+                let mut rows = if rides { vec![seat] } else { Vec::new() };
+                if decisions > 1 || after.current_seat() != seat {
+                    rows.extend(partners_of(g, seat));
+                }
+                rows
             })
             .collect();
         let dev = &self.infer_device;
@@ -118,32 +122,19 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         };
         let mut partners = match network {
             None => Partners::Random(&mut partner_rng),
-            Some(net) if decisions == 1 => Partners::Network {
-                net,
-                states: self.partner_memories(net, &colourings, &worlds, &seats)?,
-                seats,
-                rng: &mut partner_rng,
-            },
             Some(net) => {
-                // The seat's own memory at t holds in the drawn world as it is (the draw
-                // keeps every colour the seat has seen): only its partners' are replayed.
-                let others: Vec<Vec<Seat>> =
-                    seats.iter().map(|s| s[1.min(s.len())..].to_vec()).collect();
-                let replayed = self.partner_memories(net, &colourings, &worlds, &others)?;
-                let states = starts
+                let own = rides as usize;
+                let others: Vec<Vec<Seat>> = seats
                     .iter()
-                    .zip(replayed)
-                    .enumerate()
-                    .map(|(i, ((g, _), partners))| match seats[i].is_empty() {
-                        true => Vec::new(),
-                        false => self
-                            .acting_memory(i, g.current_seat())
-                            .iter()
-                            .copied()
-                            .chain(partners)
-                            .collect(),
-                    })
+                    .map(|s| s[own.min(s.len())..].to_vec())
                     .collect();
+                let mut states = self.partner_memories(net, &colourings, &worlds, &others)?;
+                for (i, state) in states.iter_mut().enumerate() {
+                    if rides && !seats[i].is_empty() {
+                        let seat = self.acting_memory(i, starts[i].0.current_seat());
+                        state.splice(0..0, seat.iter().copied());
+                    }
+                }
                 Partners::Network {
                     net,
                     states,
@@ -169,29 +160,25 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             .collect();
         // Each seat's memory reads its observations of the fictitious steps, from its state at
         // t; a continuation that ended needs no value, so its seat reads nothing. Where the
-        // seat played on, the network has read every state but the last for it already.
-        let (from_last, mut states): (bool, Vec<Vec<f32>>) = match partners.into_states() {
-            Some(network) if decisions > 1 => (
-                true,
-                network
-                    .into_iter()
-                    .map(|mut m| {
-                        m.truncate(hsz);
-                        m
-                    })
-                    .collect(),
-            ),
-            _ => (
-                false,
-                runs.iter()
-                    .enumerate()
-                    .map(|(i, (_, seat, _))| self.acting_memory(i, *seat).to_vec())
-                    .collect(),
-            ),
+        // seat stepped beside its partners, the network has read every state but the last
+        // (its rows are empty only where the action ended the game).
+        let mut states: Vec<Vec<f32>> = match partners.into_states() {
+            Some(network) if rides => network
+                .into_iter()
+                .map(|mut m| {
+                    m.truncate(hsz);
+                    m
+                })
+                .collect(),
+            _ => runs
+                .iter()
+                .enumerate()
+                .map(|(i, (_, seat, _))| self.acting_memory(i, *seat).to_vec())
+                .collect(),
         };
         let sequences: Vec<&[Game]> = runs
             .iter()
-            .map(|(_, _, c)| &c.states[if from_last { c.steps() - 1 } else { 0 }..])
+            .map(|(_, _, c)| &c.states[if rides { c.steps() - 1 } else { 0 }..])
             .collect();
         let seats: Vec<Vec<Seat>> = runs
             .iter()
