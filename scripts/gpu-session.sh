@@ -89,7 +89,8 @@ while :; do
     echo "== training $config on $device: $chunk more updates ($(left) s left)"
     timeout $(($(left) - 30)) "$bin" train "$config" --device "$device" --seeds 0 --max-updates "$chunk" \
         --eval-games 0 --out "$run" "${resume[@]}" 2>&1 | tr '\r' '\n' | grep -v -e '^\s*$' -e '^seed 0 \['
-    [ "${PIPESTATUS[0]}" = 0 ] || { echo "training stopped with status ${PIPESTATUS[0]}"; break; }
+    status=${PIPESTATUS[0]}
+    [ "$status" = 0 ] || { echo "training stopped with status $status"; break; }
     resume=(--resume)
     took=$(($(date +%s) - t0))
     # The next chunk fills about a third of what is left, from this chunk's pace.

@@ -253,10 +253,12 @@ mod tests {
     }
 
     /// In a GPU build burn's own default is the GPU; after this call it is the CPU backend
-    /// the trainer uses, so a resumed CPU run loads its optimiser state there.
+    /// the trainer uses, so a resumed CPU run loads its optimiser state there. In the CPU
+    /// build burn's default is the CPU anyway, so the variable itself is checked too.
     #[test]
     fn the_selected_backend_becomes_burns_default_device() {
         Backend::Cpu.make_burn_default();
+        assert_eq!(std::env::var("BURN_DEVICE").as_deref(), Ok("flex"));
         assert_eq!(Device::default(), crate::trainer::default_device());
     }
 
