@@ -239,11 +239,12 @@ fn the_end_term_values_ending_in_the_world_drawn_from_the_belief() {
     );
 }
 
-/// With `obl.decisions` > 1 the seat plays on inside its continuation, its memory stepped
-/// by the network beside its partners', and the bootstrap reads that memory after one more
-/// step on the last state: the same memory as stepping the seat's state at t along every
-/// state of the continuation (where random play or the previous level plays the partners). Games mid-episode, true colours
-/// (so that the real memories are every seat's memory of the world), two decisions.
+/// With the learner as partner the seat's memory steps in the network beside its partners'
+/// (with `obl.decisions` > 1 the seat also plays on), and the bootstrap reads that memory
+/// after one more step on the last state: the same memory as stepping the seat's state at t
+/// along every state of the continuation (the path where random play or the previous level
+/// plays the partners). Games mid-episode, true colours (so that the real memories are
+/// every seat's memory of the world), two decisions.
 #[test]
 fn a_seat_that_plays_on_carries_the_memory_of_its_whole_continuation() {
     let mut c = config();
