@@ -119,6 +119,8 @@ def test_a_whole_game_by_clicks_matches_the_record(server, browser):
         browser.save_screenshot(os.path.join(shots, "play-end.png"))
     game_id = browser.execute_script("return new URLSearchParams(location.search).get('game')")
     session = browser.execute_script("return localStorage.getItem('yokai-session')")
+    # The session is the server's: 128 random bits, not an id the page made up.
+    assert len(session) == 32 and all(c in "0123456789abcdef" for c in session), session
     record_path = records / session / f"{game_id}.jsonl"
     lines = [json.loads(line) for line in record_path.read_text().splitlines()]
     steps = [line for line in lines if line["type"] == "step"]

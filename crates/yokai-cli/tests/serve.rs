@@ -1,150 +1,26 @@
 //! `yokai serve` over HTTP: scripted players play whole games, every request is checked
 //! against the rules, records are valid replays of the games shown, games survive a
-//! restart of the server, hot seat hides the board, and 50 games at once all finish.
+//! restart of the server, and hot seat hides the board. The load, crash and fuzz tests are
+//! in `serve_load.rs` and `serve_fuzz.rs`.
 
-use serde_json::{json, Value};
-use std::io::{BufRead, BufReader};
-use std::path::Path;
-use std::process::{Child, Command, Stdio};
+#[path = "common/server.rs"]
+mod server;
+
+use serde_json::json;
+use server::{first_not_end, id, play_out, tempdir, Server};
+use std::process::Command;
 use yokai_engine::Replay;
-
-/// A running `yokai serve` on a free port, stopped when dropped.
-struct Server {
-    child: Child,
-    base: String,
-}
-
-impl Server {
-    fn start(records: &Path, seats: &str) -> Server {
-        let mut child = Command::new(env!("CARGO_BIN_EXE_yokai"))
-            .args(["serve", "--port", "0", "--seats", seats, "--records"])
-            .arg(records)
-            .stderr(Stdio::piped())
-            .spawn()
-            .expect("starts");
-        let mut lines = BufReader::new(child.stderr.take().unwrap()).lines();
-        let first = lines.next().expect("a start line").unwrap();
-        let base = first
-            .split_whitespace()
-            .find(|w| w.starts_with("http://"))
-            .unwrap_or_else(|| panic!("no address in `{first}`"))
-            .trim_end_matches('/')
-            .to_string();
-        // Keep reading the log so the server never blocks on a full pipe.
-        std::thread::spawn(move || for _ in lines {});
-        Server { child, base }
-    }
-
-    fn get(&self, path: &str) -> (u16, Value) {
-        answer(ureq::get(&format!("{}{path}", self.base)).call())
-    }
-
-    fn post(&self, path: &str, body: &str) -> (u16, Value) {
-        answer(
-            ureq::post(&format!("{}{path}", self.base))
-                .set("Content-Type", "application/json")
-                .send_string(body),
-        )
-    }
-
-    fn new_game(&self, session: &str, extra: Value) -> Value {
-        let mut body = json!({ "session": session });
-        body.as_object_mut()
-            .unwrap()
-            .extend(extra.as_object().unwrap().clone());
-        let (status, game) = self.post("/api/games", &body.to_string());
-        assert_eq!(status, 200, "{game}");
-        game
-    }
-
-    fn act(&self, game: &Value, action: u64) -> (u16, Value) {
-        let body = json!({
-            "session": game["session"],
-            "seat": game["board"]["viewer"],
-            "action": action,
-        });
-        self.post(
-            &format!("/api/games/{}/actions", id(game)),
-            &body.to_string(),
-        )
-    }
-}
-
-impl Drop for Server {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
-
-fn answer(r: Result<ureq::Response, ureq::Error>) -> (u16, Value) {
-    match r {
-        Ok(res) => (res.status(), res.into_json().unwrap_or(Value::Null)),
-        Err(ureq::Error::Status(code, res)) => (code, res.into_json().unwrap_or(Value::Null)),
-        Err(e) => panic!("request failed: {e}"),
-    }
-}
-
-fn id(game: &Value) -> &str {
-    game["id"].as_str().unwrap()
-}
-
-/// Play legal actions (the `k`-th of each list, cycling) until the game ends; the last
-/// game JSON.
-fn play_out(server: &Server, mut game: Value, k: usize) -> Value {
-    let mut moves = 0;
-    while !game["board"]["over"].as_bool().unwrap() {
-        let legal = game["board"]["legal"].as_array().unwrap().clone();
-        assert!(
-            !legal.is_empty(),
-            "the human to act has legal actions: {game}"
-        );
-        let pick = legal[(k + moves) % legal.len()]["index"].as_u64().unwrap();
-        let (status, next) = server.act(&game, pick);
-        assert_eq!(status, 200, "{next}");
-        // One board per step played since (this action and the bots' after it), the last
-        // one the board now.
-        let (before, now) = (
-            game["board"]["step"].as_u64(),
-            next["board"]["step"].as_u64(),
-        );
-        let frames = next["frames"].as_array().unwrap();
-        assert_eq!(
-            frames.len() as u64,
-            now.unwrap() - before.unwrap(),
-            "{next}"
-        );
-        assert_eq!(frames.last(), Some(&next["board"]));
-        game = next;
-        moves += 1;
-        assert!(moves < 500, "the game does not end");
-    }
-    game
-}
-
-/// The first legal action that does not end the game.
-fn first_not_end(game: &Value) -> u64 {
-    let legal = game["board"]["legal"].as_array().unwrap();
-    let pick = legal.iter().find(|a| a["kind"] != "end").unwrap();
-    pick["index"].as_u64().unwrap()
-}
-
-fn tempdir() -> tempfile::TempDir {
-    tempfile::Builder::new()
-        .prefix("yokai-serve-")
-        .tempdir()
-        .unwrap()
-}
 
 #[test]
 fn a_scripted_player_plays_a_whole_game_and_its_record_is_the_game_shown() {
     let tmp = tempdir();
-    let server = Server::start(tmp.path(), "human,belief");
+    let server = Server::start(tmp.path(), "human,belief", &[]);
     // The page itself, built into the binary.
     let page = ureq::get(&format!("{}/", server.base)).call().unwrap();
     assert_eq!(page.status(), 200);
     assert!(page.into_string().unwrap().contains("<title>Yōkai</title>"));
-    let game = server.new_game("player1", json!({ "seed": 11 }));
+    let player = server.session();
+    let game = server.new_game(&player, json!({ "seed": 11 }));
     assert_eq!(game["seats"], json!(["human", "belief"]));
     // Only seat 0's own knowledge is sent: no colour before it observes anything.
     assert!(game["board"]["cards"]
@@ -160,13 +36,10 @@ fn a_scripted_player_plays_a_whole_game_and_its_record_is_the_game_shown() {
         "one log line per step"
     );
     // The record on disk and the replay the server serves are the game shown.
-    let path = tmp
-        .path()
-        .join("player1")
-        .join(format!("{}.jsonl", id(&end)));
+    let path = tmp.path().join(&player).join(format!("{}.jsonl", id(&end)));
     let record = Replay::from_jsonl(&std::fs::read_to_string(&path).unwrap()).unwrap();
     let served = ureq::get(&format!(
-        "{}/api/games/{}/replay?session=player1",
+        "{}/api/games/{}/replay?session={player}",
         server.base,
         id(&end)
     ))
@@ -197,7 +70,7 @@ fn a_scripted_player_plays_a_whole_game_and_its_record_is_the_game_shown() {
     assert_eq!(status, 200);
     assert_eq!(frames["frames"].as_array().unwrap().len(), steps + 1);
     // The session's summary counts the game in the paper's metrics.
-    let (_, summary) = server.get("/api/summary?session=player1");
+    let (_, summary) = server.get(&format!("/api/summary?session={player}"));
     assert_eq!(summary["finished"], 1);
     assert_eq!(
         summary["metrics"]["reward"],
@@ -208,8 +81,9 @@ fn a_scripted_player_plays_a_whole_game_and_its_record_is_the_game_shown() {
 #[test]
 fn every_bad_request_is_refused_clearly_and_changes_nothing() {
     let tmp = tempdir();
-    let server = Server::start(tmp.path(), "human,random");
-    let game = server.new_game("s1", json!({ "seed": 2 }));
+    let server = Server::start(tmp.path(), "human,random", &[]);
+    let s1 = server.session();
+    let game = server.new_game(&s1, json!({ "seed": 2 }));
     let g = id(&game).to_string();
     let step = game["board"]["step"].clone();
     let legal: Vec<u64> = game["board"]["legal"]
@@ -219,42 +93,49 @@ fn every_bad_request_is_refused_clearly_and_changes_nothing() {
         .map(|a| a["index"].as_u64().unwrap())
         .collect();
     let illegal = (0..777).find(|i| !legal.contains(i)).unwrap();
+    let other = server.session();
     let cases = [
         (
-            json!({"session": "s1", "seat": 0, "action": illegal}).to_string(),
+            json!({"session": s1, "seat": 0, "action": illegal}).to_string(),
             400,
             "is not legal now",
         ),
         (
-            json!({"session": "s1", "seat": 1, "action": legal[0]}).to_string(),
+            json!({"session": s1, "seat": 1, "action": legal[0]}).to_string(),
             400,
             "turn",
         ),
         (
-            json!({"session": "s1", "seat": 0, "action": 100000}).to_string(),
+            json!({"session": s1, "seat": 0, "action": 100000}).to_string(),
             400,
             "out of range",
         ),
         (
-            json!({"session": "s1", "seat": 0}).to_string(),
+            json!({"session": s1, "seat": 0}).to_string(),
             400,
             "missing field `action`",
         ),
         (
-            json!({"session": "s1", "seat": 0, "action": -1}).to_string(),
+            json!({"session": s1, "seat": 0, "action": -1}).to_string(),
             400,
             "not valid",
         ),
         ("{not json".to_string(), 400, "not valid"),
+        // Another session's game is not found; an id the server never issued is refused.
         (
-            json!({"session": "other", "seat": 0, "action": legal[0]}).to_string(),
+            json!({"session": other, "seat": 0, "action": legal[0]}).to_string(),
             404,
-            "no game",
+            "no such game",
+        ),
+        (
+            json!({"session": "s1", "seat": 0, "action": legal[0]}).to_string(),
+            403,
+            "unknown session",
         ),
         (
             json!({"session": "../x", "seat": 0, "action": legal[0]}).to_string(),
-            404,
-            "letters",
+            403,
+            "unknown session",
         ),
     ];
     for (body, code, message) in cases {
@@ -262,41 +143,73 @@ fn every_bad_request_is_refused_clearly_and_changes_nothing() {
         assert_eq!(status, code, "{body}: {answer}");
         let text = answer["error"].as_str().unwrap_or_default();
         assert!(text.contains(message), "{body}: {text}");
-        let (_, now) = server.get(&format!("/api/games/{g}?session=s1"));
+        let (_, now) = server.get(&format!("/api/games/{g}?session={s1}"));
         assert_eq!(now["board"]["step"], step, "{body} changed the game");
     }
-    let (status, answer) = server.get("/api/games/0123?session=s1");
+    let (status, answer) = server.get(&format!("/api/games/0123?session={s1}"));
     assert_eq!((status, answer["error"].is_string()), (404, true));
     let (status, answer) = server.post(
         "/api/games",
-        r#"{"session":"s1","seats":["human","nobody"]}"#,
+        &json!({"session": s1, "seats": ["human", "nobody"]}).to_string(),
     );
     assert_eq!(status, 400);
+    let text = answer["error"].as_str().unwrap();
     assert!(
-        answer["error"].as_str().unwrap().contains("nobody"),
+        text.contains("\"nobody\" is not offered")
+            && text.contains("human, belief, greedy, random"),
         "{answer}"
     );
     let (status, answer) = server.post("/api/replay", "not a replay");
     assert_eq!(status, 400, "{answer}");
 }
 
+/// The two requests that once read the server's files: a path as the game, a path as a
+/// seat. Both are refused by naming what is offered, and nothing of the file comes back.
+#[test]
+fn a_path_from_the_page_is_refused_and_nothing_of_the_file_is_sent() {
+    let tmp = tempdir();
+    let secret = tmp.path().join("secrets.toml");
+    std::fs::write(&secret, "token = \"hunter2-s3cr3t\"\nuser = \"operator\"\n").unwrap();
+    let server = Server::start(&tmp.path().join("records"), "human,belief", &[]);
+    let session = server.session();
+    let secret = secret.display().to_string();
+    for body in [
+        json!({"session": session, "config": secret}),
+        json!({"session": session, "config": "/etc/passwd"}),
+        json!({"session": session, "seats": ["human", secret]}),
+        json!({"session": session, "seats": ["human", "/etc/passwd"]}),
+    ] {
+        let (status, answer) = server.post("/api/games", &body.to_string());
+        assert_eq!(status, 400, "{body}: {answer}");
+        let text = answer["error"].as_str().unwrap();
+        assert!(
+            text.contains("is not offered by this server; it offers:"),
+            "{text}"
+        );
+        for leak in ["hunter2", "operator", "root:", "TOML", "checkpoint"] {
+            assert!(!text.contains(leak), "{body}: {text}");
+        }
+    }
+}
+
 #[test]
 fn a_game_continues_after_the_server_restarts() {
     let tmp = tempdir();
-    let (g, log) = {
-        let server = Server::start(tmp.path(), "human,greedy");
-        let mut game = server.new_game("s2", json!({ "seed": 5 }));
+    let (s2, g, log) = {
+        let server = Server::start(tmp.path(), "human,greedy", &[]);
+        let s2 = server.session();
+        let mut game = server.new_game(&s2, json!({ "seed": 5 }));
         for _ in 0..6 {
             game = server.act(&game, first_not_end(&game)).1;
         }
-        (id(&game).to_string(), game["log"].clone())
+        (s2, id(&game).to_string(), game["log"].clone())
     };
-    let server = Server::start(tmp.path(), "human,greedy");
-    let (status, game) = server.get(&format!("/api/games/{g}?session=s2"));
+    let server = Server::start(tmp.path(), "human,greedy", &[]);
+    let (status, game) = server.get(&format!("/api/games/{g}?session={s2}"));
     assert_eq!(status, 200, "{game}");
     assert_eq!(game["log"], log);
     let end = play_out(&server, game, 0);
-    let record = std::fs::read_to_string(tmp.path().join("s2").join(format!("{g}.jsonl"))).unwrap();
+    let record = std::fs::read_to_string(tmp.path().join(&s2).join(format!("{g}.jsonl"))).unwrap();
     let replay = Replay::from_jsonl(&record).unwrap();
     assert!(replay.outcome.is_some());
     assert_eq!(
@@ -308,8 +221,9 @@ fn a_game_continues_after_the_server_restarts() {
 #[test]
 fn hot_seat_hides_the_board_until_the_next_player_reveals_it() {
     let tmp = tempdir();
-    let server = Server::start(tmp.path(), "human,human");
-    let mut game = server.new_game("s3", json!({ "seed": 8 }));
+    let server = Server::start(tmp.path(), "human,human", &[]);
+    let s3 = server.session();
+    let mut game = server.new_game(&s3, json!({ "seed": 8 }));
     // Seat 0 plays its turn (4 substeps); then seat 1 is to act behind the curtain.
     while game["to_act"] == 0 {
         game = server.act(&game, first_not_end(&game)).1;
@@ -319,61 +233,64 @@ fn hot_seat_hides_the_board_until_the_next_player_reveals_it() {
     assert!(game["board"].is_null(), "no board behind the curtain");
     let (_, shown) = server.post(
         &format!("/api/games/{}/reveal", id(&game)),
-        r#"{"session":"s3"}"#,
+        &json!({ "session": s3 }).to_string(),
     );
     assert_eq!(shown["curtain"], false);
     assert_eq!(shown["board"]["viewer"], 1);
 }
 
-/// Load: 50 games at once, each played to its end by its own scripted client; none is
-/// lost and every record is a valid, finished replay.
+/// `--policies DIR` offers every trained policy under DIR by its path inside it; the page
+/// seats one by that name and plays a whole game against it.
 #[test]
-fn fifty_concurrent_games_all_finish_with_valid_records() {
+fn policies_under_a_folder_are_offered_by_name_and_play() {
     let tmp = tempdir();
-    let server = Server::start(tmp.path(), "human,random");
-    let ends: Vec<Value> = std::thread::scope(|scope| {
-        let handles: Vec<_> = (0..50)
-            .map(|i| {
-                let server = &server;
-                scope.spawn(move || {
-                    let game = server.new_game(&format!("load{}", i % 5), json!({}));
-                    play_out(server, game, i)
-                })
-            })
-            .collect();
-        handles.into_iter().map(|h| h.join().unwrap()).collect()
-    });
-    let mut ids: Vec<&str> = ends.iter().map(id).collect();
-    ids.sort();
-    ids.dedup();
-    assert_eq!(ids.len(), 50, "50 distinct games");
-    let mut files = 0;
-    for end in &ends {
-        let session = end["session"].as_str().unwrap();
-        let path = tmp.path().join(session).join(format!("{}.jsonl", id(end)));
-        let replay = Replay::from_jsonl(&std::fs::read_to_string(&path).unwrap()).unwrap();
-        assert_eq!(
-            serde_json::to_value(replay.outcome.unwrap()).unwrap(),
-            end["board"]["outcome"]
-        );
-        files += 1;
-    }
-    assert_eq!(files, 50);
-    let (_, summary) = server.get("/api/summary?session=load0");
-    assert_eq!(summary["finished"], 10);
-    // The study's table: a row per session (5 sessions × 10 games) and one for all.
-    let out = Command::new(env!("CARGO_BIN_EXE_yokai"))
-        .args(["serve", "--report", "--records"])
-        .arg(tmp.path())
+    let config = tmp.path().join("tiny.toml");
+    std::fs::write(
+        &config,
+        "game = \"9c-2p-perfect\"\n[network]\npreset = \"compact\"\nhidden = 16\n\
+         [ppo]\nnum_envs = 8\nrollout_steps = 8\nminibatches = 2\nepochs = 1\ntotal_steps = 128\n",
+    )
+    .unwrap();
+    let agents = tmp.path().join("agents");
+    let trained = Command::new(env!("CARGO_BIN_EXE_yokai"))
+        .args([
+            "train",
+            config.to_str().unwrap(),
+            "--seeds",
+            "0",
+            "--threads",
+            "1",
+        ])
+        .args(["--eval-games", "0", "--out"])
+        .arg(agents.join("tiny"))
         .output()
         .unwrap();
-    let table = String::from_utf8(out.stdout).unwrap();
-    assert!(out.status.success(), "{table}");
-    let rows: Vec<&str> = table.lines().filter(|l| l.starts_with("| load")).collect();
-    assert_eq!(rows.len(), 5, "{table}");
     assert!(
-        rows.iter().all(|r| r.contains("| human + random | 10 |")),
-        "{table}"
+        trained.status.success(),
+        "{}",
+        String::from_utf8_lossy(&trained.stderr)
     );
-    assert!(table.contains("| all |  | 50 |"), "{table}");
+    let server = Server::start(
+        &tmp.path().join("records"),
+        "human,belief",
+        &["--policies", agents.to_str().unwrap()],
+    );
+    let (_, offer) = server.get("/api/config");
+    let seats = offer["offered"]["seats"].as_array().unwrap();
+    assert!(seats.contains(&json!("tiny/seed-0")), "{offer}");
+    let session = server.session();
+    let game = server.new_game(
+        &session,
+        json!({ "seats": ["human", "tiny/seed-0"], "seed": 3 }),
+    );
+    assert_eq!(game["seats"], json!(["human", "tiny/seed-0"]));
+    let end = play_out(&server, game, 2);
+    assert!(end["board"]["over"].as_bool().unwrap());
+    // The folder itself, or the policy's real path, is not a seat.
+    let path = agents.join("tiny").join("seed-0").display().to_string();
+    let (status, _) = server.post(
+        "/api/games",
+        &json!({ "session": session, "seats": ["human", path] }).to_string(),
+    );
+    assert_eq!(status, 400);
 }

@@ -9,8 +9,15 @@
 //! (replay JSONL with the seats' names), so a reloaded page, or a restarted server,
 //! continues it.
 //!
-//! API (JSON; `session` is the browser's id, under which its games are filed):
-//! - `GET  /api/config`: the server's default game and seats;
+//! The server is safe to open to a network (docs/play.md, "What a study server exposes"):
+//! a client names games and seats only from what the operator offered ([`catalog`]), no
+//! answer carries a file's text ([`error`]), sessions are ids the server issued
+//! ([`sessions`]), and bodies, games and sessions are bounded ([`limits`]).
+//!
+//! API (JSON; `session` is an id from `POST /api/sessions`, under which its games are
+//! filed):
+//! - `GET  /api/config`: the default game and seats, and every game and seat on offer;
+//! - `POST /api/sessions`: a new session `{session}`;
 //! - `POST /api/games` `{session, config?, seats?, seed?}`: a new game;
 //! - `GET  /api/games/{id}?session=S&since=K`: the game, with the boards after each step
 //!   since step K (to show the bots' moves one at a time);
@@ -20,22 +27,31 @@
 //! - `POST /api/replay` (replay JSONL): every board of a replay, all colours shown;
 //! - `GET  /api/summary?session=S`: R, SEE, EE, WEE, LEN over the session's finished games.
 
+mod catalog;
+mod error;
+mod limits;
+mod records;
+mod sessions;
 mod tables;
 mod view;
 
 use anyhow::Context;
-use axum::extract::{Path as UrlPath, Query, State};
+use axum::extract::rejection::{PathRejection, QueryRejection, StringRejection};
+use axum::extract::{DefaultBodyLimit, Path as UrlPath, Query, State};
 use axum::http::{header, StatusCode};
 use axum::response::{IntoResponse, Response};
 use axum::routing::{get, post};
 use axum::{Json, Router};
+pub use catalog::Catalog;
+use error::{ApiError, ApiResult};
+pub use limits::Limits;
 use serde::Deserialize;
 use serde_json::{json, Value};
 use std::collections::HashMap;
 use std::path::PathBuf;
 use std::sync::Arc;
-pub use tables::{Defaults, Tables};
-use yokai_engine::{Config, EpisodeRecord, Game, Replay, ReplayError, Seat};
+use tables::{lock, Tables};
+use yokai_engine::{EpisodeRecord, Game, Replay, ReplayError, Seat};
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -43,17 +59,24 @@ pub struct Args {
     #[arg(long, default_value_t = 8080)]
     port: u16,
     /// Address to listen on: 127.0.0.1 keeps the page on this machine; 0.0.0.0 opens it to
-    /// the network (for a study on several computers).
+    /// the network (for a study on several computers; put a TLS proxy in front, see
+    /// docs/play.md).
     #[arg(long, default_value = "127.0.0.1")]
     host: String,
-    /// Default seats of a new game, seat 0 first: `human`, a built-in policy (`random`,
-    /// `greedy`, `belief`) or a trained policy's path. Missing seats get `belief`; several
-    /// humans play hot-seat. The page can ask for others.
+    /// Default seats of a new game, seat 0 first: `human`, a built-in bot (`random`,
+    /// `greedy`, `belief`, with parameters if you like) or a trained policy's path. Missing
+    /// seats get `belief`; several humans play hot-seat. Every seat named here is offered
+    /// to the page by the name written here.
     #[arg(long, default_value = "human,belief")]
     seats: String,
-    /// Default game configuration: a short name or a TOML file.
-    #[arg(short, long, default_value = "9c-2p-perfect")]
-    config: String,
+    /// A folder of trained policies (run directories or .ykp files, up to three levels
+    /// down) to offer to the page, each by its path relative to the folder.
+    #[arg(long)]
+    policies: Option<PathBuf>,
+    /// Game configurations to offer beside the paper's presets: short names or TOML files;
+    /// the first is the default. Repeat the option for several.
+    #[arg(short, long = "config", default_value = "9c-2p-perfect")]
+    configs: Vec<String>,
     /// Where every game is recorded: RECORDS/SESSION/GAME.jsonl.
     #[arg(long, default_value = "runs/human-games")]
     records: PathBuf,
@@ -61,6 +84,8 @@ pub struct Args {
     /// session and seating, in the paper's metrics) and exit.
     #[arg(long)]
     report: bool,
+    #[command(flatten)]
+    limits: Limits,
 }
 
 const INDEX: &str = include_str!("assets/index.html");
@@ -69,14 +94,15 @@ const STYLE: &str = include_str!("assets/style.css");
 
 pub fn run(args: Args) -> anyhow::Result<()> {
     if args.report {
-        print!("{}", tables::report(&args.records)?);
+        print!("{}", records::report(&args.records)?);
         return Ok(());
     }
-    let config = Config::resolve(&args.config)?;
-    let seats = crate::play::seat_names(&args.seats, &config)?;
-    // Seat every default once now, so a bad policy path fails here, not in the page.
-    let tables = Tables::new(Defaults { config, seats }, args.records.clone());
-    tables.check_defaults()?;
+    let default = yokai_engine::Config::resolve(&args.configs[0])
+        .with_context(|| format!("--config {}", args.configs[0]))?;
+    let seats = crate::play::seat_names(&args.seats, &default)?;
+    // Every policy is loaded now: a bad file fails here, where the operator reads it.
+    let catalog = Catalog::new(&args.configs, &seats, args.policies.as_deref())?;
+    let tables = Tables::new(catalog, seats, args.records.clone(), args.limits)?;
     let runtime = tokio::runtime::Builder::new_multi_thread()
         .enable_all()
         .build()
@@ -87,9 +113,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             .with_context(|| format!("cannot listen on {}:{}", args.host, args.port))?;
         let address = listener.local_addr()?;
         eprintln!(
-            "yokai serve: http://{address}/ ({config}, seats {}; records in {})",
-            tables.defaults().seats.join(", "),
-            args.records.display()
+            "yokai serve: http://{address}/ ({default}, seats {}; records in {}; {} unfinished games)",
+            tables.default_seats().join(", "),
+            args.records.display(),
+            tables.sessions.open_games(),
         );
         axum::serve(listener, router(Arc::new(tables)))
             .with_graceful_shutdown(async {
@@ -105,11 +132,13 @@ pub fn router(tables: Arc<Tables>) -> Router {
     let asset = |kind: &'static str, body: &'static str| {
         get(move || async move { ([(header::CONTENT_TYPE, kind)], body) })
     };
+    let max_body = tables.limits().max_body;
     Router::new()
         .route("/", asset("text/html; charset=utf-8", INDEX))
         .route("/app.js", asset("text/javascript; charset=utf-8", APP))
         .route("/style.css", asset("text/css; charset=utf-8", STYLE))
         .route("/api/config", get(config_handler))
+        .route("/api/sessions", post(session_handler))
         .route("/api/games", post(create_handler))
         .route("/api/games/{id}", get(game_handler))
         .route("/api/games/{id}/actions", post(action_handler))
@@ -117,46 +146,75 @@ pub fn router(tables: Arc<Tables>) -> Router {
         .route("/api/games/{id}/replay", get(replay_handler))
         .route("/api/replay", post(replay_view_handler))
         .route("/api/summary", get(summary_handler))
+        .fallback(|| async { ApiError::NotFound("no such page".into()) })
+        .layer(DefaultBodyLimit::max(max_body))
         .with_state(tables)
 }
 
-/// An error as the page sees it: `{"error": message}` with a status.
-struct ApiError(StatusCode, String);
+type Api = ApiResult<Json<Value>>;
 
-impl IntoResponse for ApiError {
-    fn into_response(self) -> Response {
-        eprintln!("yokai serve: refused ({}): {}", self.0.as_u16(), self.1);
-        (self.0, Json(json!({ "error": self.1 }))).into_response()
-    }
-}
-
-fn bad(e: anyhow::Error) -> ApiError {
-    ApiError(StatusCode::BAD_REQUEST, format!("{e:#}"))
-}
-
-fn not_found(e: anyhow::Error) -> ApiError {
-    ApiError(StatusCode::NOT_FOUND, format!("{e:#}"))
+/// A request's body as text, or why not (too large: `--max-body`).
+fn body_text(body: Result<String, StringRejection>, tables: &Tables) -> ApiResult<String> {
+    body.map_err(|rejection| {
+        if rejection.status() == StatusCode::PAYLOAD_TOO_LARGE {
+            ApiError::TooLarge(format!(
+                "the request is larger than {} bytes, the server's --max-body",
+                tables.limits().max_body
+            ))
+        } else {
+            ApiError::BadRequest("the request body is not UTF-8 text".into())
+        }
+    })
 }
 
 /// A JSON body, or an error that says what is wrong with it.
-fn parse<T: for<'de> Deserialize<'de>>(body: &str) -> Result<T, ApiError> {
-    serde_json::from_str(body).map_err(|e| bad(anyhow::anyhow!("the request is not valid: {e}")))
+fn parse<T: for<'de> Deserialize<'de>>(
+    body: Result<String, StringRejection>,
+    tables: &Tables,
+) -> ApiResult<T> {
+    let text = body_text(body, tables)?;
+    serde_json::from_str(&text)
+        .map_err(|e| ApiError::BadRequest(format!("the request is not valid: {e}")))
 }
 
-type Api = Result<Json<Value>, ApiError>;
+/// The query string's fields.
+fn query(
+    q: Result<Query<HashMap<String, String>>, QueryRejection>,
+) -> ApiResult<HashMap<String, String>> {
+    q.map(|Query(q)| q)
+        .map_err(|_| ApiError::BadRequest("the query string is not valid".into()))
+}
 
-/// Run `work` off the async threads (it may load a network, let bots think, or wait for a
-/// game whose bots are thinking); its error becomes a 400 answer.
-async fn blocking(work: impl FnOnce() -> anyhow::Result<Value> + Send + 'static) -> Api {
+/// The game id in the path.
+fn game_id(id: Result<UrlPath<String>, PathRejection>) -> ApiResult<String> {
+    id.map(|UrlPath(id)| id)
+        .map_err(|_| ApiError::NotFound("no such game in this session".into()))
+}
+
+/// Run `work` off the async threads (it may let bots think, read a record, or wait for a
+/// game whose bots are thinking).
+async fn blocking(work: impl FnOnce() -> ApiResult<Value> + Send + 'static) -> Api {
     match tokio::task::spawn_blocking(work).await {
-        Ok(out) => out.map(Json).map_err(bad),
-        Err(e) => Err(bad(anyhow::anyhow!("the request could not be served: {e}"))),
+        Ok(out) => out.map(Json),
+        Err(e) => Err(ApiError::Internal(anyhow::anyhow!(
+            "a request's task failed: {e}"
+        ))),
     }
 }
 
 async fn config_handler(State(tables): State<Arc<Tables>>) -> Json<Value> {
-    let d = tables.defaults();
-    Json(json!({ "config": d.config.to_string(), "seats": d.seats, "players": d.config.players() }))
+    let catalog = tables.catalog();
+    let config = catalog.default_config();
+    Json(json!({
+        "config": config.to_string(),
+        "seats": tables.default_seats(),
+        "players": config.players(),
+        "offered": { "configs": catalog.config_names(), "seats": catalog.seat_names() },
+    }))
+}
+
+async fn session_handler(State(tables): State<Arc<Tables>>) -> Api {
+    Ok(Json(json!({ "session": tables.sessions.issue()? })))
 }
 
 #[derive(Deserialize)]
@@ -168,12 +226,14 @@ struct NewGame {
     seed: Option<u64>,
 }
 
-async fn create_handler(State(tables): State<Arc<Tables>>, body: String) -> Api {
-    let req: NewGame = parse(&body)?;
-    // Loading a trained policy reads a file: off the async threads.
+async fn create_handler(
+    State(tables): State<Arc<Tables>>,
+    body: Result<String, StringRejection>,
+) -> Api {
+    let req: NewGame = parse(body, &tables)?;
     blocking(move || {
         let t = tables.create(&req.session, req.config.as_deref(), req.seats, req.seed)?;
-        let json = game_json(&t.lock().unwrap_or_else(|e| e.into_inner()), 0);
+        let json = game_json(&lock(&t), 0);
         Ok(json)
     })
     .await
@@ -181,23 +241,22 @@ async fn create_handler(State(tables): State<Arc<Tables>>, body: String) -> Api 
 
 async fn game_handler(
     State(tables): State<Arc<Tables>>,
-    UrlPath(id): UrlPath<String>,
-    Query(q): Query<HashMap<String, String>>,
+    id: Result<UrlPath<String>, PathRejection>,
+    q: Result<Query<HashMap<String, String>>, QueryRejection>,
 ) -> Api {
+    let (id, q) = (game_id(id)?, query(q)?);
     let session = q.get("session").cloned().unwrap_or_default();
     let since = match q.get("since") {
-        Some(k) => k
-            .parse::<usize>()
-            .map_err(|_| bad(anyhow::anyhow!("since `{k}` is not a step number")))?,
+        Some(k) => k.parse::<usize>().map_err(|_| {
+            ApiError::BadRequest(format!("since {} is not a step number", error::quoted(k)))
+        })?,
         None => usize::MAX,
     };
-    let table = tables.get(&session, &id).map_err(not_found)?;
-    // The game's lock may be held while its bots think: wait for it off the async threads.
+    // Reading a record back, or waiting for a game whose bots think: off the async threads.
     blocking(move || {
-        Ok(game_json(
-            &table.lock().unwrap_or_else(|e| e.into_inner()),
-            since,
-        ))
+        let table = tables.get(&session, &id)?;
+        let json = game_json(&lock(&table), since);
+        Ok(json)
     })
     .await
 }
@@ -212,14 +271,15 @@ struct Act {
 
 async fn action_handler(
     State(tables): State<Arc<Tables>>,
-    UrlPath(id): UrlPath<String>,
-    body: String,
+    id: Result<UrlPath<String>, PathRejection>,
+    body: Result<String, StringRejection>,
 ) -> Api {
-    let req: Act = parse(&body)?;
-    let table = tables.get(&req.session, &id).map_err(not_found)?;
+    let id = game_id(id)?;
+    let req: Act = parse(body, &tables)?;
     // Bots (a trained network, the belief bot) may think for a while: off the async threads.
     blocking(move || {
-        let mut t = table.lock().unwrap_or_else(|e| e.into_inner());
+        let table = tables.get(&req.session, &id)?;
+        let mut t = lock(&table);
         let before = t.session.game().steps();
         tables.act(&mut t, req.seat, req.action)?;
         Ok(game_json(&t, before))
@@ -235,33 +295,36 @@ struct Reveal {
 
 async fn reveal_handler(
     State(tables): State<Arc<Tables>>,
-    UrlPath(id): UrlPath<String>,
-    body: String,
+    id: Result<UrlPath<String>, PathRejection>,
+    body: Result<String, StringRejection>,
 ) -> Api {
-    let req: Reveal = parse(&body)?;
-    let table = tables.get(&req.session, &id).map_err(not_found)?;
-    let mut t = table.lock().unwrap_or_else(|e| e.into_inner());
-    if t.session.curtain() {
-        t.session
-            .handle(crate::play::session::Key::Enter)
-            .map_err(bad)?;
-    }
-    Ok(Json(game_json(&t, usize::MAX)))
+    let id = game_id(id)?;
+    let req: Reveal = parse(body, &tables)?;
+    blocking(move || {
+        let table = tables.get(&req.session, &id)?;
+        let mut t = lock(&table);
+        if t.session.curtain() {
+            t.session.handle(crate::play::session::Key::Enter)?;
+        }
+        Ok(game_json(&t, usize::MAX))
+    })
+    .await
 }
 
 async fn replay_handler(
     State(tables): State<Arc<Tables>>,
-    UrlPath(id): UrlPath<String>,
-    Query(q): Query<HashMap<String, String>>,
+    id: Result<UrlPath<String>, PathRejection>,
+    q: Result<Query<HashMap<String, String>>, QueryRejection>,
 ) -> Result<Response, ApiError> {
+    let (id, q) = (game_id(id)?, query(q)?);
     let session = q.get("session").cloned().unwrap_or_default();
-    let table = tables.get(&session, &id).map_err(not_found)?;
-    let text = table
-        .lock()
-        .unwrap_or_else(|e| e.into_inner())
-        .session
-        .replay()
-        .to_jsonl();
+    let text = tokio::task::spawn_blocking(move || {
+        let table = tables.get(&session, &id)?;
+        let text = lock(&table).session.replay().to_jsonl();
+        Ok::<_, ApiError>(text)
+    })
+    .await
+    .map_err(|e| ApiError::Internal(anyhow::anyhow!("a request's task failed: {e}")))??;
     Ok((
         [(header::CONTENT_TYPE, "application/jsonl; charset=utf-8")],
         text,
@@ -269,25 +332,38 @@ async fn replay_handler(
         .into_response())
 }
 
-async fn replay_view_handler(body: String) -> Api {
-    let replay = Replay::from_jsonl(&body).map_err(|e| bad(anyhow::anyhow!("{e}")))?;
-    // Every board with all colours shown: a replay is watched after the fact.
-    let frames = boards_after(&replay.record(), 0, view::truth_view).map_err(|e| bad(e.into()))?;
-    Ok(Json(json!({
-        "config": replay.header.config.to_string(),
-        "seats": replay.header.seats,
-        "steps": replay.steps.iter().map(|s| json!({"seat": s.seat, "name": s.name})).collect::<Vec<_>>(),
-        "frames": frames,
-        "outcome": replay.outcome,
-    })))
+async fn replay_view_handler(
+    State(tables): State<Arc<Tables>>,
+    body: Result<String, StringRejection>,
+) -> Api {
+    let text = body_text(body, &tables)?;
+    // The client's own text is parsed: an error may quote it, never a file.
+    let not_replay = |e: &dyn std::fmt::Display| {
+        let message: String = e.to_string().chars().take(200).collect();
+        ApiError::BadRequest(format!("not a replay: {message}"))
+    };
+    blocking(move || {
+        let replay = Replay::from_jsonl(&text).map_err(|e| not_replay(&e))?;
+        // Every board with all colours shown: a replay is watched after the fact.
+        let frames =
+            boards_after(&replay.record(), 0, view::truth_view).map_err(|e| not_replay(&e))?;
+        Ok(json!({
+            "config": replay.header.config.to_string(),
+            "seats": replay.header.seats,
+            "steps": replay.steps.iter().map(|s| json!({"seat": s.seat, "name": s.name})).collect::<Vec<_>>(),
+            "frames": frames,
+            "outcome": replay.outcome,
+        }))
+    })
+    .await
 }
 
 async fn summary_handler(
     State(tables): State<Arc<Tables>>,
-    Query(q): Query<HashMap<String, String>>,
+    q: Result<Query<HashMap<String, String>>, QueryRejection>,
 ) -> Api {
-    let session = q.get("session").cloned().unwrap_or_default();
-    tables.summary(&session).map(Json).map_err(bad)
+    let session = query(q)?.get("session").cloned().unwrap_or_default();
+    blocking(move || tables.summary(&session)).await
 }
 
 /// The game as the page needs it: seats, whose view (the acting human, else the last

@@ -1,88 +1,160 @@
 //! The games the server holds: a table per game (a [`Session`] with its seats), looked up
-//! by id, each recorded to a replay file after every action so that a game survives a
-//! reload of the page and a restart of the server.
+//! by session and id, recorded after every action so that a game survives a reload of the
+//! page, being dropped from memory, and a restart of the server.
 
-use crate::eval::Entry;
-use crate::play::session::{Player, Session};
-use anyhow::{anyhow, bail, Context};
+use super::catalog::Catalog;
+use super::error::{ApiError, ApiResult};
+use super::limits::Limits;
+use super::records;
+use super::sessions::Sessions;
+use crate::play::session::Session;
+use anyhow::Context;
 use std::collections::HashMap;
-use std::path::{Path, PathBuf};
-use std::sync::{Arc, Mutex};
-use yokai_engine::{Action, Config, MetricsAccumulator, Replay, Seat};
-
-/// Seats and game the server offers when a page does not ask for others.
-#[derive(Clone, Debug)]
-pub struct Defaults {
-    pub config: Config,
-    pub seats: Vec<String>,
-}
+use std::path::PathBuf;
+use std::sync::{Arc, Mutex, MutexGuard};
+use yokai_engine::{Action, Config, Seat};
 
 /// One game at one table.
 pub struct Table {
     pub id: String,
-    /// The person's session (a browser's id): records are filed under it.
+    /// The session the game belongs to: its record is filed under it.
     pub session_id: String,
     pub session: Session,
     pub seed: u64,
 }
 
+pub type Shared = Arc<Mutex<Table>>;
+
 /// A game's key: the session it belongs to and its id.
 type GameKey = (String, String);
 
+/// The games in memory, the least recently used dropped first beyond the limit.
+#[derive(Default)]
+struct Cache {
+    games: HashMap<GameKey, (Shared, u64)>,
+    clock: u64,
+}
+
+impl Cache {
+    fn get(&mut self, key: &GameKey) -> Option<Shared> {
+        self.clock += 1;
+        let clock = self.clock;
+        self.games.get_mut(key).map(|(t, used)| {
+            *used = clock;
+            t.clone()
+        })
+    }
+
+    /// Keep `table` under `key` (or the one a concurrent request put there first).
+    fn insert(&mut self, key: GameKey, table: Shared, capacity: usize) -> Shared {
+        self.clock += 1;
+        let clock = self.clock;
+        let kept = self.games.entry(key).or_insert((table, clock)).0.clone();
+        self.shrink(capacity);
+        kept
+    }
+
+    /// Drop idle games, least recently used first, until at most `capacity` are kept. A
+    /// game some request holds is never dropped: that request may be about to write its
+    /// record, and a second copy read from the old record would fork the game.
+    fn shrink(&mut self, capacity: usize) {
+        while self.games.len() > capacity {
+            let idle = self
+                .games
+                .iter()
+                .filter(|(_, (t, _))| Arc::strong_count(t) == 1)
+                .min_by_key(|(_, (_, used))| *used)
+                .map(|(k, _)| k.clone());
+            match idle {
+                Some(key) => self.games.remove(&key),
+                None => break,
+            };
+        }
+    }
+}
+
 /// Every game of the server.
 pub struct Tables {
-    defaults: Defaults,
+    catalog: Catalog,
+    default_seats: Vec<String>,
     records: PathBuf,
-    /// By (session, game id): a lookup never waits on a game whose bots are thinking.
-    games: Mutex<HashMap<GameKey, Arc<Mutex<Table>>>>,
+    limits: Limits,
+    pub sessions: Sessions,
+    cache: Mutex<Cache>,
     next: Mutex<u64>,
 }
 
-/// An id of letters and digits only: it becomes a file name.
-pub fn check_id(what: &str, id: &str) -> anyhow::Result<()> {
-    if id.is_empty() || id.len() > 64 || !id.chars().all(|c| c.is_ascii_alphanumeric() || c == '-')
-    {
-        bail!("{what} `{id}` is not 1–64 letters, digits or dashes");
+/// A game id: the server's own, 16 hex digits; it becomes a file name.
+fn check_game_id(id: &str) -> ApiResult<()> {
+    if id.len() == 16 && id.bytes().all(|b| b.is_ascii_hexdigit()) {
+        Ok(())
+    } else {
+        Err(ApiError::NotFound("no such game in this session".into()))
     }
-    Ok(())
+}
+
+pub fn lock(table: &Shared) -> MutexGuard<'_, Table> {
+    table.lock().unwrap_or_else(|e| e.into_inner())
 }
 
 impl Tables {
-    pub fn new(defaults: Defaults, records: PathBuf) -> Tables {
+    /// The server's tables over `records`, with the sessions and unfinished games a
+    /// previous run left there. Every default seat must be in the catalog.
+    pub fn new(
+        catalog: Catalog,
+        default_seats: Vec<String>,
+        records: PathBuf,
+        limits: Limits,
+    ) -> anyhow::Result<Tables> {
+        let config = catalog.default_config();
+        catalog
+            .players(&config, &default_seats, 0)
+            .map_err(|e| anyhow::anyhow!("--seats: {e:?}"))?;
         let seed = std::time::SystemTime::now()
             .duration_since(std::time::UNIX_EPOCH)
             .map_or(0, |d| d.as_nanos() as u64);
-        Tables {
-            defaults,
+        Ok(Tables {
+            catalog,
+            default_seats,
+            sessions: Sessions::load(&records, limits.clone()),
             records,
-            games: Mutex::new(HashMap::new()),
+            limits,
+            cache: Mutex::new(Cache::default()),
             next: Mutex::new(seed),
-        }
+        })
     }
 
-    pub fn defaults(&self) -> &Defaults {
-        &self.defaults
+    pub fn catalog(&self) -> &Catalog {
+        &self.catalog
     }
 
-    /// Seat the default seats once (a bad policy path fails at start, not in the page).
-    pub fn check_defaults(&self) -> anyhow::Result<()> {
-        players(&self.defaults.config, &self.defaults.seats, 0).map(|_| ())
+    pub fn default_seats(&self) -> &[String] {
+        &self.default_seats
     }
 
-    /// A new game for `session_id` with `seats` (default: the server's) of `config`.
+    pub fn limits(&self) -> &Limits {
+        &self.limits
+    }
+
+    fn cache(&self) -> MutexGuard<'_, Cache> {
+        self.cache.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// A new game for `session_id` with `seats` (default: the server's) of the game called
+    /// `config` (default: the server's), within the session's and the server's limits.
     pub fn create(
         &self,
         session_id: &str,
         config: Option<&str>,
         seats: Option<Vec<String>>,
         seed: Option<u64>,
-    ) -> anyhow::Result<Arc<Mutex<Table>>> {
-        check_id("session", session_id)?;
-        let config = match config {
-            Some(name) => Config::resolve(name)?,
-            None => self.defaults.config,
+    ) -> ApiResult<Shared> {
+        self.sessions.check(session_id)?;
+        let config: Config = match config {
+            Some(name) => self.catalog.config(name)?,
+            None => self.catalog.default_config(),
         };
-        let seats = seats.unwrap_or_else(|| self.defaults.seats.clone());
+        let seats = seats.unwrap_or_else(|| self.default_seats.clone());
         // Every game gets a fresh id (and, unless asked for one, a fresh seed) from a
         // counter started at the server's start time: two games never share a record.
         let (id, fresh_seed) = {
@@ -90,46 +162,52 @@ impl Tables {
             loop {
                 *next = yokai_engine::derive_seed(*next, 1);
                 let id = format!("{:016x}", yokai_engine::derive_seed(*next, 0x5E7));
-                if !self.record_path(session_id, &id).exists() {
+                if !records::record_path(&self.records, session_id, &id).exists() {
                     break (id, *next);
                 }
             }
         };
         let seed = seed.unwrap_or(fresh_seed);
-        let session = Session::new(config, seed, players(&config, &seats, seed)?)?;
-        let table = Arc::new(Mutex::new(Table {
+        let players = self.catalog.players(&config, &seats, seed)?;
+        self.sessions.open(session_id, &id)?;
+        let made = Session::new(config, seed, players).map(|session| Table {
             id: id.clone(),
             session_id: session_id.to_string(),
             session,
             seed,
-        }));
-        self.save(&table.lock().unwrap_or_else(|e| e.into_inner()))?;
-        self.games
-            .lock()
-            .unwrap_or_else(|e| e.into_inner())
-            .insert((session_id.to_string(), id), table.clone());
-        Ok(table)
+        });
+        let table = match made {
+            Ok(table) => table,
+            Err(e) => {
+                self.sessions.close(session_id, &id);
+                return Err(e.into());
+            }
+        };
+        self.save(&table)?;
+        let finished = table.session.is_over();
+        let shared = Arc::new(Mutex::new(table));
+        if finished {
+            // A table of bots only plays to its end at once: its record holds it.
+            return Ok(shared);
+        }
+        let key = (session_id.to_string(), id);
+        Ok(self.cache().insert(key, shared, self.limits.max_in_memory))
     }
 
     /// The game `id` of `session_id`: in memory, else read back from its record (after a
-    /// restart of the server), its seats seated again and its actions replayed.
-    pub fn get(&self, session_id: &str, id: &str) -> anyhow::Result<Arc<Mutex<Table>>> {
-        check_id("session", session_id)?;
-        check_id("game", id)?;
+    /// restart of the server, or once dropped from memory), its seats seated again and its
+    /// actions replayed.
+    pub fn get(&self, session_id: &str, id: &str) -> ApiResult<Shared> {
+        self.sessions.check(session_id)?;
+        check_game_id(id)?;
         let key = (session_id.to_string(), id.to_string());
-        if let Some(t) = self
-            .games
-            .lock()
-            .unwrap_or_else(|e| e.into_inner())
-            .get(&key)
-        {
-            return Ok(t.clone());
+        if let Some(t) = self.cache().get(&key) {
+            return Ok(t);
         }
-        let path = self.record_path(session_id, id);
-        let text = std::fs::read_to_string(&path)
-            .map_err(|_| anyhow!("no game `{id}` in this session"))?;
-        let replay =
-            Replay::from_jsonl(&text).with_context(|| format!("the record {}", path.display()))?;
+        let path = records::record_path(&self.records, session_id, id);
+        let Some(replay) = records::read(&path)? else {
+            return Err(ApiError::NotFound("no such game in this session".into()));
+        };
         let seed = replay
             .header
             .seed
@@ -139,163 +217,114 @@ impl Tables {
             .steps
             .iter()
             .map(|s| config.decode(s.action as usize))
-            .collect::<Result<Vec<Action>, _>>()?;
-        let seats = replay.header.seats.clone();
-        let session = Session::resume(config, seed, players(&config, &seats, seed)?, &actions)?;
-        let table = Arc::new(Mutex::new(Table {
+            .collect::<Result<Vec<Action>, _>>()
+            .with_context(|| format!("the record {}", path.display()))?;
+        let players = self
+            .catalog
+            .players(&config, &replay.header.seats, seed)
+            .map_err(|e| anyhow::anyhow!("the record {}: {e:?}", path.display()))?;
+        let session = Session::resume(config, seed, players, &actions)
+            .with_context(|| format!("the record {}", path.display()))?;
+        let table = Table {
             id: id.to_string(),
             session_id: session_id.to_string(),
             session,
             seed,
-        }));
-        // Two requests may have read the record at once: the first one in is the game.
-        let mut games = self.games.lock().unwrap_or_else(|e| e.into_inner());
-        Ok(games.entry(key).or_insert(table).clone())
+        };
+        let finished = table.session.is_over();
+        let shared = Arc::new(Mutex::new(table));
+        if finished {
+            // Finished games live in their records: served once, not kept.
+            return Ok(shared);
+        }
+        Ok(self.cache().insert(key, shared, self.limits.max_in_memory))
     }
 
     /// Play `action` (an index) for `seat`, which must be the human to act; then the bots.
-    pub fn act(&self, table: &mut Table, seat: u8, action: usize) -> anyhow::Result<()> {
+    /// A game that ends here leaves memory (its record holds it).
+    pub fn act(&self, table: &mut Table, seat: u8, action: usize) -> ApiResult<()> {
         let config = *table.session.game().config();
-        let action = config.decode(action)?;
+        let action = config
+            .decode(action)
+            .map_err(|e| ApiError::BadRequest(e.to_string()))?;
         match table.session.human_to_act() {
             Some(s) if s == Seat(seat) => {}
-            Some(s) => bail!("it is {s}'s turn, not seat {seat}'s"),
-            None if table.session.is_over() => bail!("the game is over"),
-            None => bail!("it is not a human's turn"),
+            Some(s) => {
+                return Err(ApiError::BadRequest(format!(
+                    "it is {s}'s turn, not seat {seat}'s"
+                )))
+            }
+            None if table.session.is_over() => {
+                return Err(ApiError::BadRequest("the game is over".into()))
+            }
+            None => return Err(ApiError::BadRequest("it is not a human's turn".into())),
         }
-        table.session.choose(action)?;
+        let before = table.session.game().steps();
+        if let Err(e) = table.session.choose(action) {
+            // The human's action was refused (nothing changed), or a bot failed after it.
+            return Err(if table.session.game().steps() == before {
+                ApiError::BadRequest(format!("{e:#}"))
+            } else {
+                ApiError::Internal(e)
+            });
+        }
         self.save(table)
     }
 
-    /// Write the game's record (after every action: a reload or a restart continues it).
-    pub fn save(&self, table: &Table) -> anyhow::Result<()> {
-        let path = self.record_path(&table.session_id, &table.id);
-        if let Some(dir) = path.parent() {
-            std::fs::create_dir_all(dir)
-                .with_context(|| format!("cannot create {}", dir.display()))?;
+    /// Write the game's record; a finished game no longer counts as open and leaves memory.
+    pub fn save(&self, table: &Table) -> ApiResult<()> {
+        let path = records::record_path(&self.records, &table.session_id, &table.id);
+        records::write(&path, &table.session.replay())?;
+        if table.session.is_over() {
+            self.sessions.close(&table.session_id, &table.id);
+            let key = (table.session_id.clone(), table.id.clone());
+            self.cache().games.remove(&key);
         }
-        let tmp = path.with_extension("jsonl.tmp");
-        std::fs::write(&tmp, table.session.replay().to_jsonl())
-            .with_context(|| format!("cannot write {}", tmp.display()))?;
-        std::fs::rename(&tmp, &path).with_context(|| format!("cannot write {}", path.display()))
-    }
-
-    pub fn record_path(&self, session_id: &str, id: &str) -> PathBuf {
-        self.records.join(session_id).join(format!("{id}.jsonl"))
+        Ok(())
     }
 
     /// The paper's metrics over the finished games of `session_id`.
-    pub fn summary(&self, session_id: &str) -> anyhow::Result<serde_json::Value> {
-        check_id("session", session_id)?;
-        summarise(&self.records.join(session_id))
+    pub fn summary(&self, session_id: &str) -> ApiResult<serde_json::Value> {
+        self.sessions.check(session_id)?;
+        Ok(records::summarise(&self.records.join(session_id))?)
     }
 }
 
-/// The seats named `seats` at a game of `config`: `human`, or anything `yokai eval` seats.
-fn players(config: &Config, seats: &[String], seed: u64) -> anyhow::Result<Vec<(String, Player)>> {
-    if seats.len() != config.players() {
-        bail!(
-            "{config} has {} seats, but {} were given",
-            config.players(),
-            seats.len()
-        );
-    }
-    seats
-        .iter()
-        .enumerate()
-        .map(|(s, name)| {
-            if name == "human" {
-                return Ok((name.clone(), Player::Human));
-            }
-            let entry = Entry::parse(name)?;
-            entry.check_game(config)?;
-            Ok((entry.name(), Player::Bot(entry.build(seed ^ s as u64))))
-        })
-        .collect()
-}
+#[cfg(test)]
+mod tests {
+    use super::*;
 
-/// The replay files (`*.jsonl`) in `dir`, read and checked; none if `dir` does not exist.
-fn records_in(dir: &Path) -> anyhow::Result<Vec<Replay>> {
-    let Ok(entries) = std::fs::read_dir(dir) else {
-        return Ok(Vec::new());
-    };
-    let mut out = Vec::new();
-    for entry in entries.flatten() {
-        let path = entry.path();
-        if path.extension().and_then(|e| e.to_str()) == Some("jsonl") {
-            let text = std::fs::read_to_string(&path)?;
-            out.push(Replay::from_jsonl(&text).with_context(|| format!("{}", path.display()))?);
-        }
+    #[test]
+    fn the_cache_drops_the_least_recently_used_idle_game_and_never_a_held_one() {
+        let mut cache = Cache::default();
+        let table = |n: &str| {
+            let config = Config::from_name("9c-2p").unwrap();
+            Arc::new(Mutex::new(Table {
+                id: n.into(),
+                session_id: "s".into(),
+                session: Session::new(
+                    config,
+                    0,
+                    vec![
+                        ("human".into(), crate::play::session::Player::Human),
+                        ("human".into(), crate::play::session::Player::Human),
+                    ],
+                )
+                .unwrap(),
+                seed: 0,
+            }))
+        };
+        let key = |n: &str| ("s".to_string(), n.to_string());
+        let held = cache.insert(key("a"), table("a"), 2);
+        drop(cache.insert(key("b"), table("b"), 2));
+        assert!(cache.get(&key("b")).is_some());
+        // `a` is the least recently used, but held: `b` goes instead.
+        drop(cache.insert(key("c"), table("c"), 2));
+        assert!(cache.games.contains_key(&key("a")));
+        assert!(!cache.games.contains_key(&key("b")));
+        drop(held);
+        drop(cache.insert(key("d"), table("d"), 2));
+        assert!(!cache.games.contains_key(&key("a")));
+        assert_eq!(cache.games.len(), 2);
     }
-    Ok(out)
-}
-
-/// R, win rate, EE, SEE, WEE, LEN over the finished games recorded in `dir`.
-pub fn summarise(dir: &Path) -> anyhow::Result<serde_json::Value> {
-    let mut acc = MetricsAccumulator::default();
-    let mut unfinished = 0;
-    for replay in records_in(dir)? {
-        match replay.outcome {
-            Some(o) => acc.add(&o),
-            None => unfinished += 1,
-        }
-    }
-    Ok(serde_json::json!({
-        "finished": acc.games,
-        "unfinished": unfinished,
-        "metrics": acc.metrics(),
-    }))
-}
-
-/// A Markdown table of the finished games under `records` (RECORDS/SESSION/GAME.jsonl),
-/// one row per session and seating, in the paper's metrics: the human study's results.
-pub fn report(records: &Path) -> anyhow::Result<String> {
-    let mut groups: std::collections::BTreeMap<(String, String), MetricsAccumulator> =
-        Default::default();
-    let mut unfinished = 0;
-    let sessions =
-        std::fs::read_dir(records).with_context(|| format!("cannot list {}", records.display()))?;
-    for session in sessions.flatten().filter(|e| e.path().is_dir()) {
-        let name = session.file_name().to_string_lossy().to_string();
-        for replay in records_in(&session.path())? {
-            let seating = replay.header.seats.join(" + ");
-            match replay.outcome {
-                Some(o) => groups.entry((name.clone(), seating)).or_default().add(&o),
-                None => unfinished += 1,
-            }
-        }
-    }
-    let mut out = String::from(
-        "| session | seats | games | R | SEE % | EE % | WEE % | LEN |\n|---|---|---|---|---|---|---|---|\n",
-    );
-    let mut all = MetricsAccumulator::default();
-    let row = |session: &str, seats: &str, acc: &MetricsAccumulator| {
-        let m = acc.metrics().expect("a group has games");
-        let wee = m
-            .win_given_early_end
-            .map_or("–".to_string(), |w| format!("{:.0}", 100.0 * w));
-        format!(
-            "| {session} | {seats} | {} | {:.2} ± {:.2} | {:.0} | {:.0} | {wee} | {:.1} |\n",
-            m.games,
-            m.reward,
-            m.reward_se,
-            100.0 * m.successful_early_end,
-            100.0 * m.early_end,
-            m.length
-        )
-    };
-    for ((session, seats), acc) in &groups {
-        out += &row(session, seats, acc);
-        all.merge(acc);
-    }
-    if groups.len() > 1 {
-        out += &row("all", "", &all);
-    }
-    if groups.is_empty() {
-        out = "No finished game.\n".into();
-    }
-    if unfinished > 0 {
-        out += &format!("\n{unfinished} unfinished game(s) left out.\n");
-    }
-    Ok(out)
 }

@@ -7,18 +7,24 @@ const CELL = 46;
 const $ = (id) => document.getElementById(id);
 
 const S = {
-  session: localStorage.getItem("yokai-session") || newId(),
+  session: null,     // an id the server issued (POST /api/sessions), kept in local storage
   game: null,        // the last game JSON from the server
   card: null,        // a card selected for MOVE
   hint: null,        // a hint slot selected for PLACE
   busy: false,       // an animation or a request is running
 };
-localStorage.setItem("yokai-session", S.session);
 
-function newId() {
-  const bytes = new Uint8Array(8);
-  crypto.getRandomValues(bytes);
-  return Array.from(bytes, (b) => b.toString(16).padStart(2, "0")).join("");
+/// This browser's session: the one kept in local storage if the server knows it (it issued
+/// it, and still has it), else a new one from the server.
+async function openSession() {
+  const kept = localStorage.getItem("yokai-session");
+  if (kept) {
+    const res = await fetch(`/api/summary?session=${encodeURIComponent(kept)}`);
+    if (res.ok) return kept;
+  }
+  const { session } = await api("POST", "/api/sessions");
+  localStorage.setItem("yokai-session", session);
+  return session;
 }
 
 async function api(method, url, body) {
@@ -342,9 +348,12 @@ async function start() {
     const res = await fetch(`/api/games/${S.game.id}/replay?session=${S.session}`);
     openReplay(await res.text());
   });
+  S.session = await openSession();
   const defaults = await api("GET", "/api/config");
   $("seats").value = defaults.seats.join(", ");
   $("config").value = defaults.config;
+  $("offered").textContent = `Seats offered: ${defaults.offered.seats.join(", ")}. ` +
+    `Games offered: ${defaults.offered.configs.join(", ")}.`;
   const id = new URLSearchParams(location.search).get("game");
   if (id) {
     try {
