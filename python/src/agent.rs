@@ -41,7 +41,8 @@ impl PyAgent {
         match &self.trained {
             #[cfg(feature = "trained")]
             Some((path, trained)) => {
-                yokai_train::policy::check_game(path, trained, game.config()).map_err(config_error)
+                yokai_train::artifact::check_game(path, trained, game.config())
+                    .map_err(config_error)
             }
             _ => Ok(()),
         }

@@ -154,8 +154,8 @@ pub fn expand(args: &[String]) -> anyhow::Result<Vec<String>> {
     for arg in args {
         let path = Path::new(arg);
         let is_run = |p: &Path| {
-            p.join(yokai_train::run::POLICY).exists()
-                || p.join(yokai_train::run::CHECKPOINT).exists()
+            p.join(yokai_train::artifact::names::POLICY).exists()
+                || p.join(yokai_train::artifact::names::CHECKPOINT).exists()
         };
         let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("");
         let (dir, pattern) = if name.contains(['*', '?', '[']) {
@@ -393,7 +393,8 @@ pub fn groups_of(entries: &[Entry]) -> Vec<(String, Vec<usize>)> {
 /// The run directory of a policy file or checkpoint inside one (else the file itself).
 fn run_dir_of(path: &Path) -> PathBuf {
     match path.file_name().and_then(|f| f.to_str()) {
-        Some(yokai_train::run::POLICY) | Some(yokai_train::run::CHECKPOINT) => {
+        Some(yokai_train::artifact::names::POLICY)
+        | Some(yokai_train::artifact::names::CHECKPOINT) => {
             path.parent().map_or(path.to_path_buf(), Path::to_path_buf)
         }
         _ => path.to_path_buf(),
@@ -515,7 +516,7 @@ pub fn write_outputs(
             Entry::Trained(p) => Some((e.name(), run_dir_of(p.path()))),
             Entry::Builtin(_) => None,
         })
-        .filter(|(_, d)| d.join(yokai_train::run::METRICS).exists())
+        .filter(|(_, d)| d.join(yokai_train::artifact::names::METRICS).exists())
         .collect();
     if !runs.is_empty() {
         let mut ret = Vec::new();

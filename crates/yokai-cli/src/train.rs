@@ -7,7 +7,8 @@ use std::collections::VecDeque;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use yokai_agents::PolicySpec;
-use yokai_train::run::{checkpoint_config, seed_path};
+use yokai_train::artifact::names::seed_path;
+use yokai_train::run::checkpoint_config;
 use yokai_train::{train_run, RunRequest, TrainConfig, TrainedPolicy};
 
 /// `(name, contents)` of each named file in `configs/`, built into the binary.

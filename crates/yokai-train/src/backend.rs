@@ -96,7 +96,7 @@ impl Backend {
             });
         }
         match self {
-            Backend::Cpu => Ok(crate::trainer::default_device()),
+            Backend::Cpu => Ok(crate::device::default_device()),
             #[cfg(feature = "vulkan")]
             Backend::Vulkan => Ok(Device::vulkan(burn::tensor::DeviceKind::DiscreteGpu(0))),
             #[cfg(feature = "cuda")]
@@ -259,7 +259,7 @@ mod tests {
     fn the_selected_backend_becomes_burns_default_device() {
         Backend::Cpu.make_burn_default();
         assert_eq!(std::env::var("BURN_DEVICE").as_deref(), Ok("flex"));
-        assert_eq!(Device::default(), crate::trainer::default_device());
+        assert_eq!(Device::default(), crate::device::default_device());
     }
 
     #[test]

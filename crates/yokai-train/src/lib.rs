@@ -3,32 +3,49 @@
 //! The default backend is burn's pure-Rust `flex` CPU backend. The `vulkan` (and, where its
 //! build can download LLVM, `cuda`) feature adds a GPU backend, chosen at run time with
 //! [`Backend`], so the same code trains on a GPU.
+//!
+//! Modules depend one way, each only on those above it in this list (CI checks that no two
+//! top-level modules import each other, directly or around a loop):
+//! - leaves: [`config`], [`device`], [`tensor`], [`init`], [`distribution`], [`gae`];
+//! - [`backend`] (devices by name), then [`error`] (every error a person reads);
+//! - [`artifact`]: files on disk (container, header, run-directory names, SafeTensors);
+//! - [`network`]: the actor-critics;
+//! - [`policy`]: trained networks seated as players;
+//! - algorithms: [`obl`] (beliefs and fictitious continuations), then [`trainer`] (PPO);
+//! - [`probe`] and [`run`] (a run directory over the trainer).
 
-pub mod backend;
 pub mod config;
+pub mod device;
 pub mod distribution;
-pub mod export;
-pub mod file;
 pub mod gae;
 pub mod init;
+pub mod tensor;
+
+pub mod backend;
+pub mod error;
+
+pub mod artifact;
 pub mod network;
+pub mod policy;
+
 pub mod obl;
 pub mod trainer;
 
+pub mod probe;
+pub mod run;
+
+pub use artifact::{Container, FileHeader};
 pub use backend::{Backend, BackendError};
 pub use config::{
     ActionHead, EncoderKind, EndForm, MemoryKind, NetworkPreset, OblPartner, SymmetrySet,
     TrainConfig, TrainConfigError,
 };
-pub use file::{Container, FileError};
+pub use device::default_device;
+pub use error::{FileError, TrainError};
 pub use network::{
-    ActorCritic, CnnEncoder, Encoder, GraphEncoder, GruCell, MlpEncoder, Recurrent, TransformerXl,
+    ActorCritic, CnnEncoder, Encoder, GraphEncoder, GruCell, MlpEncoder, Recurrent, SeatStep,
+    TransformerXl,
 };
-pub use trainer::{default_device, FileHeader, TrainError, Trainer, UpdateStats};
-pub mod policy;
-pub mod probe;
-pub mod run;
-
-pub use network::SeatStep;
 pub use policy::{NetworkPolicy, TrainedPolicy};
 pub use run::{read_metrics, train_run, RunRequest, RunSummary};
+pub use trainer::{Trainer, UpdateStats};

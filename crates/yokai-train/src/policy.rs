@@ -1,15 +1,16 @@
 //! Trained networks as [`Policy`]s: load a policy file, a checkpoint or a run directory,
 //! then seat the network anywhere a built-in bot can sit (`yokai eval`, Python, `play`).
 
-use crate::config::{ActConfig, EncoderKind, MemoryKind, TrainConfig};
+use crate::artifact::safetensors;
+use crate::artifact::{check_game, FileHeader, PolicyFile};
+use crate::config::{ActConfig, EncoderKind, MemoryKind};
+use crate::device::default_device;
 use crate::distribution::{decide_end_row, sample_row};
-use crate::file::Container;
+use crate::error::TrainError;
 use crate::network::{
     ActorCritic, CnnEncoder, Encoder, GraphEncoder, GruCell, MlpEncoder, PublicPrivateEncoder,
     Recurrent, SeatStep, TransformerXl,
 };
-use crate::run::{CHECKPOINT, POLICY};
-use crate::trainer::{default_device, load_model, read_header, FileHeader, TrainError};
 use burn::prelude::*;
 use burn::tensor::TensorData;
 use rand_chacha::rand_core::SeedableRng;
@@ -52,59 +53,6 @@ macro_rules! with_net {
 /// The observation encoding a network's encoder reads.
 fn encoding_of<E: Encoder, M: Recurrent>(_: &ActorCritic<E, M>) -> Encoding {
     E::encoding()
-}
-
-/// The file a policy path names: `path` itself, or for a run directory its `policy.ykp`,
-/// else its checkpoint.
-fn policy_file(path: &Path) -> PathBuf {
-    if path.is_dir() {
-        let policy = path.join(POLICY);
-        if policy.exists() {
-            policy
-        } else {
-            path.join(CHECKPOINT)
-        }
-    } else {
-        path.to_path_buf()
-    }
-}
-
-/// A policy file, checkpoint or run directory opened and its header read: the training
-/// config and the game it was written for, and its sections (the network is `model`).
-pub(crate) struct PolicyFile {
-    pub path: PathBuf,
-    pub file: Container,
-    pub header: FileHeader,
-    pub config: TrainConfig,
-    pub game: Config,
-}
-
-impl PolicyFile {
-    pub fn open(path: &Path) -> Result<PolicyFile, TrainError> {
-        let path = policy_file(path);
-        let file = Container::read(&path)?;
-        let header = read_header(&file, &path)?;
-        let shown = path.display().to_string();
-        let config = TrainConfig::from_toml_str(&header.train_config, &shown)?;
-        let game =
-            Config::from_toml_str(&header.game, &shown).map_err(|e| TrainError::Mismatch {
-                path: shown,
-                message: format!("game config: {e}"),
-            })?;
-        Ok(PolicyFile {
-            path,
-            file,
-            header,
-            config,
-            game,
-        })
-    }
-
-    /// The `model` section loaded into `model`, which must be the same network.
-    pub fn load_into<M: burn::module::Module>(&self, model: M) -> Result<M, TrainError> {
-        let bytes = self.file.section(&self.path, "model")?;
-        load_model(model, bytes, &self.path.display().to_string())
-    }
 }
 
 /// A trained network loaded from disk, ready to be seated any number of times.
@@ -178,7 +126,7 @@ impl TrainedPolicy {
     /// Every parameter of the network, flattened (to compare two trained networks: the
     /// files themselves also hold burn's per-process parameter ids).
     pub fn parameters(&self) -> Vec<f32> {
-        with_net!(&self.net, net => crate::trainer::parameters(net.as_ref()))
+        with_net!(&self.net, net => crate::tensor::parameters(net.as_ref()))
     }
 
     pub fn header(&self) -> &FileHeader {
@@ -190,9 +138,9 @@ impl TrainedPolicy {
 
     /// Write the network's weights as a SafeTensors file, with the training config, the
     /// game, the observation encoding and the memory width as metadata (see
-    /// [`crate::export`]).
+    /// [`crate::artifact::safetensors`]).
     pub fn write_safetensors(&self, path: &Path) -> Result<(), TrainError> {
-        use crate::export::*;
+        use safetensors::*;
         let metadata = [
             (META_TRAIN_CONFIG, self.header.train_config.clone()),
             (META_GAME, self.header.game.clone()),
@@ -228,7 +176,7 @@ impl TrainedPolicy {
     /// (a partner replayed up to the present).
     pub fn recur_batch(&self, obs: Vec<f32>, states: Vec<f32>, keep: Vec<f32>) -> Vec<f32> {
         let (o, s, k) = self.batch_tensors(obs, states, keep);
-        crate::trainer::to_vec(with_net!(&self.net, m => m.recur(o, s, k)))
+        crate::tensor::to_vec(with_net!(&self.net, m => m.recur(o, s, k)))
     }
 
     /// Observations `[rows, L]`, states `[rows, H]` and `keep` `[rows, 1]` as tensors.
@@ -260,18 +208,6 @@ impl TrainedPolicy {
     pub fn build(&self, seed: u64) -> Box<dyn Policy> {
         with_net!(&self.net, m => Box::new(NetworkPolicy::new((**m).clone(), self, seed)))
     }
-}
-
-/// The error for a network trained on `trained` seated in `game`, if they differ.
-pub fn check_game(path: &Path, trained: &Config, game: &Config) -> Result<(), TrainError> {
-    if trained == game {
-        return Ok(());
-    }
-    Err(TrainError::WrongGame {
-        path: path.display().to_string(),
-        trained: trained.to_string(),
-        game: game.to_string(),
-    })
 }
 
 /// One seat played by a network: keeps its GRU state and steps it on every game step,
@@ -325,7 +261,7 @@ impl<E: Encoder, M: Recurrent> NetworkPolicy<E, M> {
             Tensor::from_data(TensorData::new(self.hidden.clone(), [1, h]), d),
             Tensor::ones([1, 1], d),
         );
-        self.hidden = crate::trainer::to_vec(state.clone());
+        self.hidden = crate::tensor::to_vec(state.clone());
         (obs, state)
     }
 }
@@ -341,7 +277,7 @@ impl<E: Encoder, M: Recurrent> Policy for NetworkPolicy<E, M> {
     }
     fn act(&mut self, view: &SeatView<'_>) -> Action {
         let (obs, state) = self.remember(view);
-        let logits = crate::trainer::to_vec(self.model.policy_logits(obs, state));
+        let logits = crate::tensor::to_vec(self.model.policy_logits(obs, state));
         self.stepped = true;
         view.write_legal_mask(&mut self.mask);
         let u = crate::distribution::unit_draw(&mut self.rng);

@@ -11,20 +11,18 @@
 //! RUN/replays/         at every checkpoint, the last finished training game of env 0
 //! ```
 
+use crate::artifact::names::{BELIEF_METRICS, CHECKPOINT, METRICS, POLICY};
+use crate::artifact::read_header;
 use crate::backend::Backend;
 use crate::config::{EncoderKind, MemoryKind, TrainConfig};
+use crate::error::TrainError;
 use crate::network::{
     CnnEncoder, Encoder, GraphEncoder, GruCell, MlpEncoder, PublicPrivateEncoder, Recurrent,
     TransformerXl,
 };
-use crate::trainer::{TrainError, Trainer, UpdateStats};
+use crate::trainer::{Trainer, UpdateStats};
 use std::io::Write;
 use std::path::{Path, PathBuf};
-
-pub const CHECKPOINT: &str = "checkpoint.ykc";
-pub const POLICY: &str = "policy.ykp";
-pub const METRICS: &str = "metrics.jsonl";
-pub const BELIEF_METRICS: &str = "belief.jsonl";
 
 /// What a finished (or stopped) run reports.
 #[derive(Clone, Debug)]
@@ -94,22 +92,11 @@ pub fn train_run(
     }
 }
 
-/// Seed `seed`'s run in `path` when `path` is a directory of `seed-N` runs, else `path`
-/// itself: how `--init-from` and `obl.previous` name one run per seed.
-pub fn seed_path(path: &Path, seed: u64) -> PathBuf {
-    let per_seed = path.join(format!("seed-{seed}"));
-    if per_seed.is_dir() {
-        per_seed
-    } else {
-        path.to_path_buf()
-    }
-}
-
 /// The training config a run's checkpoint was written with, read from its header.
 pub fn checkpoint_config(dir: &Path) -> Result<TrainConfig, TrainError> {
     let path = dir.join(CHECKPOINT);
-    let file = crate::file::Container::read(&path)?;
-    let header = crate::trainer::read_header(&file, &path)?;
+    let file = crate::artifact::Container::read(&path)?;
+    let header = read_header(&file, &path)?;
     Ok(TrainConfig::from_toml_str(
         &header.train_config,
         &path.display().to_string(),

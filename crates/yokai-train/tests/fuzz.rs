@@ -6,7 +6,7 @@
 
 use proptest::prelude::*;
 use std::path::Path;
-use yokai_train::file::Container;
+use yokai_train::Container;
 use yokai_train::{MlpEncoder, TrainConfig, Trainer};
 
 fn cases() -> u32 {

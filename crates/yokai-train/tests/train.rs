@@ -4,7 +4,7 @@
 use yokai_agents::play_episode;
 use yokai_agents::Policy;
 use yokai_engine::Part;
-use yokai_train::file::Container;
+use yokai_train::Container;
 use yokai_train::{
     read_metrics, train_run, EncoderKind, EndForm, MlpEncoder, RunRequest, SymmetrySet,
     TrainConfig, TrainError, TrainedPolicy, Trainer,

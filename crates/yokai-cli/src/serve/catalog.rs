@@ -169,7 +169,8 @@ impl Catalog {
 /// deep at most, in name order.
 fn policies_under(dir: &Path) -> anyhow::Result<Vec<(String, std::path::PathBuf)>> {
     let is_run = |p: &Path| {
-        p.join(yokai_train::run::POLICY).is_file() || p.join(yokai_train::run::CHECKPOINT).is_file()
+        p.join(yokai_train::artifact::names::POLICY).is_file()
+            || p.join(yokai_train::artifact::names::CHECKPOINT).is_file()
     };
     if !dir.is_dir() {
         bail!("--policies {}: not a directory", dir.display());

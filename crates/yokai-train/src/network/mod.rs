@@ -246,7 +246,7 @@ pub struct ActorCritic<E: Encoder, M: Recurrent> {
 /// and learning: one per worker thread on the CPU, where a batch's small matrices would
 /// otherwise run on one core; one on a GPU, whose kernels already fill the device.
 pub fn shards_on(device: &Device) -> usize {
-    if *device == crate::trainer::default_device() {
+    if *device == crate::device::default_device() {
         rayon::current_num_threads()
     } else {
         1
@@ -367,9 +367,9 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
         let l = obs.len() / states.dims()[0];
         let chosen_obs = rows.iter().flat_map(|&r| &obs[r * l..][..l]).copied();
         let idx = rows.iter().map(|&r| r as i64).collect();
-        crate::trainer::to_vec(self.policy_logits(
-            crate::trainer::tensor2(chosen_obs.collect(), [rows.len(), l], &device),
-            states.select(0, crate::trainer::rows_tensor(idx, &device)),
+        crate::tensor::to_vec(self.policy_logits(
+            crate::tensor::tensor2(chosen_obs.collect(), [rows.len(), l], &device),
+            states.select(0, crate::tensor::rows_tensor(idx, &device)),
         ))
     }
 
@@ -474,7 +474,7 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
         choosing: &[usize],
         device: &Device,
     ) -> Acted {
-        use crate::trainer::{tensor2, to_vec};
+        use crate::tensor::{tensor2, to_vec};
         let rows = keep.len();
         let h = self.recur(
             tensor2(obs.to_vec(), [rows, obs.len() / rows.max(1)], device),

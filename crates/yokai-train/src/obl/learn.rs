@@ -19,7 +19,7 @@
 use super::belief::first_hand_slots;
 use super::model::{BeliefModel, SlotInputs};
 use crate::distribution::sample_legal;
-use crate::trainer::{tensor2, to_vec};
+use crate::tensor::{tensor2, to_vec};
 use crate::TrainedPolicy;
 use burn::optim::{AdamConfig, GradientsParams, ModuleOptimizer};
 use burn::prelude::*;

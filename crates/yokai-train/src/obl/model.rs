@@ -265,7 +265,7 @@ impl BeliefModel {
             } else {
                 let idx: Vec<i64> = open.iter().map(|&i| i as i64).collect();
                 let rows = Tensor::<1, Int>::from_data(TensorData::new(idx, [open.len()]), &device);
-                crate::trainer::to_vec(self.log_probs(states.clone().select(0, rows), &inputs))
+                crate::tensor::to_vec(self.log_probs(states.clone().select(0, rows), &inputs))
             };
             let mut next = 0;
             for (i, colours) in drawn.iter_mut().enumerate() {

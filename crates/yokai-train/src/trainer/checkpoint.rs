@@ -1,31 +1,19 @@
 //! Checkpoints and policy files of a run: the header, the network, the optimiser and the
 //! loop state, and continuing a run exactly from a checkpoint.
 
-use super::{default_device, optimizer, to_vec, TrainError, Trainer};
+use super::{optimizer, Trainer};
+use crate::artifact::{check_game, load_model, read_header, Container, FileHeader, PolicyFile};
 use crate::config::TrainConfig;
-use crate::file::Container;
+use crate::device::default_device;
+use crate::error::TrainError;
 use crate::network::{Encoder, Recurrent};
-use burn::module::{Module, ModuleVisitor, Param};
+use crate::tensor::parameters;
+use burn::module::Module;
 use burn::prelude::*;
-use burn::store::ModuleRecord;
 use burn::tensor::Bytes;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 use yokai_engine::Config;
-
-/// What the header of a checkpoint or policy file says.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct FileHeader {
-    /// `checkpoint` or `policy`.
-    pub kind: String,
-    /// The resolved training config (TOML).
-    pub train_config: String,
-    /// The resolved game config (TOML), so a policy knows the game it was trained for.
-    pub game: String,
-    pub seed: u64,
-    pub update: u64,
-    pub env_steps: u64,
-}
 
 /// The loop state a checkpoint saves beside the network and optimiser. Everything else is
 /// derived: environment steps from the update count, each game's episode index from the
@@ -181,29 +169,6 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
     }
 }
 
-pub(crate) fn read_header(file: &Container, path: &Path) -> Result<FileHeader, TrainError> {
-    serde_json::from_str(&file.header).map_err(|e| TrainError::Mismatch {
-        path: path.display().to_string(),
-        message: format!("unreadable header: {e}"),
-    })
-}
-
-/// Load network weights, refusing any record whose tensors do not match the network.
-pub(crate) fn load_model<M: Module>(model: M, bytes: &[u8], path: &str) -> Result<M, TrainError> {
-    let record = ModuleRecord::from_bytes(Bytes::from_bytes_vec(bytes.to_vec())).map_err(|e| {
-        TrainError::Record {
-            path: path.to_string(),
-            message: e.to_string(),
-        }
-    })?;
-    model
-        .try_load_record(record)
-        .map_err(|e| TrainError::Record {
-            path: path.to_string(),
-            message: e.to_string(),
-        })
-}
-
 /// `model` with the parameters of the policy file, checkpoint or run directory `path`
 /// (`run.init_from`), which must hold the same network for the same game.
 pub(super) fn initial_weights<M: Module>(
@@ -212,7 +177,7 @@ pub(super) fn initial_weights<M: Module>(
     config: &TrainConfig,
     game: &Config,
 ) -> Result<M, TrainError> {
-    let opened = crate::policy::PolicyFile::open(path)?;
+    let opened = PolicyFile::open(path)?;
     let from = std::path::PathBuf::from(format!("run.init_from {}", opened.path.display()));
     if opened.config.network != config.network {
         return Err(TrainError::Mismatch {
@@ -223,19 +188,6 @@ pub(super) fn initial_weights<M: Module>(
             ),
         });
     }
-    crate::policy::check_game(&from, &opened.game, game)?;
+    check_game(&from, &opened.game, game)?;
     opened.load_into(model)
-}
-
-/// Every float parameter of a module, flattened in visiting order.
-pub fn parameters<M: Module>(model: &M) -> Vec<f32> {
-    struct Collect(Vec<f32>);
-    impl ModuleVisitor for Collect {
-        fn visit_float<const D: usize>(&mut self, param: &Param<Tensor<D>>) {
-            self.0.extend(to_vec(param.val()));
-        }
-    }
-    let mut c = Collect(Vec::new());
-    model.visit(&mut c);
-    c.0
 }

@@ -21,52 +21,18 @@ mod obl;
 mod ppo;
 mod rollout;
 
-pub(crate) use checkpoint::{load_model, read_header};
-pub use checkpoint::{parameters, FileHeader};
-
 use crate::config::TrainConfig;
-use crate::file::FileError;
+use crate::device::default_device;
+use crate::error::TrainError;
 use crate::network::{ActorCritic, Encoder, GruCell, Recurrent};
 use burn::optim::{AdamConfig, ModuleOptimizer};
 use burn::prelude::*;
-use burn::tensor::TensorData;
 use checkpoint::LoopState;
 use rand_chacha::rand_core::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 use yokai_engine::{derive_seed, Card, Config, EpisodeRecord, Metrics, RecordedGame, Symmetry};
-use yokai_vec::{Encoding, VecEnv, VecEnvOptions, VecError};
-
-/// Why training cannot go on.
-#[derive(Debug, thiserror::Error)]
-pub enum TrainError {
-    #[error(transparent)]
-    Config(#[from] crate::config::TrainConfigError),
-    #[error(transparent)]
-    File(#[from] FileError),
-    #[error(transparent)]
-    Backend(#[from] crate::backend::BackendError),
-    #[error("environment: {0}")]
-    Env(#[from] VecError),
-    #[error("{path}: {message}")]
-    Mismatch { path: String, message: String },
-    #[error("{path}: cannot load the network: {message}")]
-    Record { path: String, message: String },
-    #[error("{path}: {message}")]
-    Io { path: String, message: String },
-    /// An Off-Belief Learning continuation that could not be built (a bug, named).
-    #[error("off-belief learning: {0}")]
-    Obl(String),
-    #[error(
-        "{path} was trained on {trained}, not on {game}: its observations and actions do not fit"
-    )]
-    WrongGame {
-        path: String,
-        /// Names of the games (configs are large for an error value).
-        trained: String,
-        game: String,
-    },
-}
+use yokai_vec::{Encoding, VecEnv, VecEnvOptions};
 
 /// One update's figures, for the metrics log and the progress bar.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -135,13 +101,6 @@ pub struct Trainer<E: Encoder, M: Recurrent = GruCell> {
     previous: Option<obl::PreviousLevel>,
 }
 
-/// The device of inference outside training (evaluation, play, Python): burn's `flex` CPU
-/// backend, whatever GPU features are built in. Training picks its device with
-/// [`Trainer::new_on`] ([`crate::Backend`]).
-pub fn default_device() -> Device {
-    Device::flex()
-}
-
 /// The seed of a run's batch of games.
 fn env_seed(run_seed: u64) -> u64 {
     derive_seed(run_seed, 0xE5)
@@ -151,28 +110,6 @@ fn optimizer(config: &TrainConfig) -> ModuleOptimizer {
     AdamConfig::new()
         .with_epsilon(config.ppo.adam_eps as f32)
         .init()
-}
-
-pub(crate) fn tensor2(v: Vec<f32>, shape: [usize; 2], device: &Device) -> Tensor<2> {
-    Tensor::from_data(TensorData::new(v, shape), device)
-}
-
-pub(crate) fn tensor1(v: Vec<f32>, device: &Device) -> Tensor<1> {
-    let n = v.len();
-    Tensor::from_data(TensorData::new(v, [n]), device)
-}
-
-/// Row indices for `Tensor::select`.
-pub(crate) fn rows_tensor(rows: Vec<i64>, device: &Device) -> Tensor<1, Int> {
-    let n = rows.len();
-    Tensor::from_data(TensorData::new(rows, [n]), device)
-}
-
-pub(crate) fn to_vec<const D: usize>(t: Tensor<D>) -> Vec<f32> {
-    t.into_data()
-        .convert::<f32>()
-        .try_into_vec::<f32>()
-        .expect("f32 tensor data")
 }
 
 impl<E: Encoder, M: Recurrent> Trainer<E, M> {

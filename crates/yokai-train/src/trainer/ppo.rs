@@ -4,10 +4,11 @@
 
 use super::minibatch::{self, Shard, Totals};
 use super::rollout::Rollout;
-use super::{rows_tensor, tensor1, tensor2, Trainer};
+use super::Trainer;
 use crate::config::EndForm;
 use crate::distribution::{binary_entropy, chosen_log_prob, entropy, masked_log_softmax};
 use crate::network::{shards_on, Encoder, Recurrent};
+use crate::tensor::{rows_tensor, tensor1, tensor2};
 use burn::module::{Module, ModuleMapper, ModuleVisitor, Param};
 use burn::optim::GradientsParams;
 use burn::prelude::*;

@@ -2,8 +2,9 @@
 //! (observations and masks as each seat saw them, actions, log-probabilities, values,
 //! episode starts) and the GAE advantages and returns.
 
-use super::{TrainError, Trainer};
+use super::Trainer;
 use crate::distribution::sample_row;
+use crate::error::TrainError;
 use crate::gae::gae;
 use crate::network::{shards_on, Encoder, Recurrent};
 use burn::module::Module;

@@ -31,10 +31,12 @@ mod previous;
 
 pub(crate) use previous::PreviousLevel;
 
-use super::{tensor2, to_vec, TrainError, Trainer};
+use super::Trainer;
 use crate::config::OblPartner;
+use crate::error::TrainError;
 use crate::network::{ActorCritic, Encoder, Recurrent};
 use crate::obl::{continue_all, first_hand_slots, sample_first_hand_consistent, Continuation};
+use crate::tensor::{tensor2, to_vec};
 use memory::step_along;
 use partners::{Learner, PartnerNet, Partners};
 use rand_chacha::rand_core::SeedableRng;

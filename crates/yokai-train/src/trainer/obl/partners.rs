@@ -5,9 +5,10 @@
 
 use super::memory::{episode_states, step_along};
 use crate::distribution::sample_legal;
+use crate::error::TrainError;
 use crate::network::{shards_on, ActorCritic, Encoder, Recurrent, SeatStep};
 use crate::obl::continuation::random_legal;
-use crate::trainer::{TrainError, Trainer};
+use crate::trainer::Trainer;
 use crate::TrainedPolicy;
 use burn::prelude::Device;
 use rand_chacha::ChaCha8Rng;

@@ -7,9 +7,9 @@
 //! saved in checkpoints, so a resume continues it exactly.
 
 use crate::config::TrainConfig;
+use crate::error::TrainError;
 use crate::obl::learn::{BeliefStats, BeliefTrainConfig, BeliefTrainer, LevelBelow};
 use crate::obl::model::BeliefModel;
-use crate::trainer::TrainError;
 use crate::TrainedPolicy;
 use burn::prelude::*;
 use yokai_engine::{derive_seed, Config};
@@ -40,7 +40,7 @@ impl PreviousLevel {
             .previous
             .as_ref()
             .expect("validated: levels ≥ 2 name their previous level");
-        let policy = TrainedPolicy::load(&crate::run::seed_path(given, seed))?;
+        let policy = TrainedPolicy::load(&crate::artifact::names::seed_path(given, seed))?;
         policy.check_game(game)?;
         let belief_config =
             BeliefTrainConfig::small(config.obl.belief_hidden, config.obl.belief_updates);

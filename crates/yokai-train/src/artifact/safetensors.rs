@@ -1,7 +1,7 @@
 //! A trained network's weights as a SafeTensors file, for people who want to look at them
 //! or run them outside Rust (PyTorch, NumPy, JAX: `safetensors.numpy.load_file`).
 //!
-//! The project's own policy files (`file.rs`) stay the format `yokai` reads: they carry
+//! The project's own policy files (`container.rs`) stay the format `yokai` reads: they carry
 //! the training state, check every byte and are written atomically. SafeTensors is the
 //! interchange format the ML ecosystem already reads safely (no code execution on load),
 //! so an export is burn's own `burn-store` writer, not a second hand-written container.
@@ -12,7 +12,7 @@
 //! inputs: the training config and the game (TOML), the observation encoding, and the
 //! width of the recurrent state.
 
-use crate::trainer::TrainError;
+use crate::error::TrainError;
 use burn::module::Module;
 use burn::store::{ModuleSnapshot, SafetensorsStore};
 use std::path::Path;
@@ -82,7 +82,7 @@ mod tests {
     use super::*;
     use crate::config::TrainConfig;
     use crate::network::{ActorCritic, GruCell, MlpEncoder};
-    use crate::trainer::parameters;
+    use crate::tensor::parameters;
     use burn::prelude::Device;
 
     #[test]

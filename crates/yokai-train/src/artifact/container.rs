@@ -9,29 +9,15 @@
 //! with the file and the part that is wrong, never loaded. Version 1 files (no header
 //! checksum) are still read.
 
+use crate::error::FileError;
 use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use yokai_engine::digest::{fnv1a, Fnv1a};
 
 const MAGIC: &[u8] = b"YOKAI-TRAIN\n";
 const VERSION: u32 = 2;
 /// Versions this build reads.
 const READABLE: [u32; 2] = [1, 2];
-
-/// A file that cannot be read as a checkpoint or policy, with where and why.
-#[derive(Debug, thiserror::Error)]
-pub enum FileError {
-    #[error("{path}: {message}")]
-    Io { path: PathBuf, message: String },
-    #[error("{path} is not a Yōkai checkpoint or policy file (it does not start with the format's magic bytes)")]
-    NotOurs { path: PathBuf },
-    #[error("{path} has format version {found}; this build reads version {VERSION}")]
-    Version { path: PathBuf, found: u32 },
-    #[error("{path} is corrupt: {what}")]
-    Corrupt { path: PathBuf, what: String },
-    #[error("{path} has no `{section}` section")]
-    Missing { path: PathBuf, section: String },
-}
 
 /// A header and named sections, in memory.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -105,6 +91,7 @@ impl Container {
             return Err(FileError::Version {
                 path: path.to_path_buf(),
                 found: version,
+                reads: VERSION,
             });
         }
         let len = u64_of(take(8, "the header length")?) as usize;

@@ -1,0 +1,116 @@
+//! What a checkpoint or policy file says about itself: its header (kind, training config,
+//! game, seed, progress), and opening one by the path a person gives (a file or a run
+//! directory) with its network section ready to load.
+
+use super::container::Container;
+use super::names::{CHECKPOINT, POLICY};
+use crate::config::TrainConfig;
+use crate::error::TrainError;
+use burn::module::Module;
+use burn::store::ModuleRecord;
+use burn::tensor::Bytes;
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+use yokai_engine::Config;
+
+/// What the header of a checkpoint or policy file says.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct FileHeader {
+    /// `checkpoint` or `policy`.
+    pub kind: String,
+    /// The resolved training config (TOML).
+    pub train_config: String,
+    /// The resolved game config (TOML), so a policy knows the game it was trained for.
+    pub game: String,
+    pub seed: u64,
+    pub update: u64,
+    pub env_steps: u64,
+}
+
+pub(crate) fn read_header(file: &Container, path: &Path) -> Result<FileHeader, TrainError> {
+    serde_json::from_str(&file.header).map_err(|e| TrainError::Mismatch {
+        path: path.display().to_string(),
+        message: format!("unreadable header: {e}"),
+    })
+}
+
+/// Load network weights, refusing any record whose tensors do not match the network.
+pub(crate) fn load_model<M: Module>(model: M, bytes: &[u8], path: &str) -> Result<M, TrainError> {
+    let record = ModuleRecord::from_bytes(Bytes::from_bytes_vec(bytes.to_vec())).map_err(|e| {
+        TrainError::Record {
+            path: path.to_string(),
+            message: e.to_string(),
+        }
+    })?;
+    model
+        .try_load_record(record)
+        .map_err(|e| TrainError::Record {
+            path: path.to_string(),
+            message: e.to_string(),
+        })
+}
+
+/// The file a policy path names: `path` itself, or for a run directory its `policy.ykp`,
+/// else its checkpoint.
+fn policy_file(path: &Path) -> PathBuf {
+    if path.is_dir() {
+        let policy = path.join(POLICY);
+        if policy.exists() {
+            policy
+        } else {
+            path.join(CHECKPOINT)
+        }
+    } else {
+        path.to_path_buf()
+    }
+}
+
+/// A policy file, checkpoint or run directory opened and its header read: the training
+/// config and the game it was written for, and its sections (the network is `model`).
+pub(crate) struct PolicyFile {
+    pub path: PathBuf,
+    pub file: Container,
+    pub header: FileHeader,
+    pub config: TrainConfig,
+    pub game: Config,
+}
+
+impl PolicyFile {
+    pub fn open(path: &Path) -> Result<PolicyFile, TrainError> {
+        let path = policy_file(path);
+        let file = Container::read(&path)?;
+        let header = read_header(&file, &path)?;
+        let shown = path.display().to_string();
+        let config = TrainConfig::from_toml_str(&header.train_config, &shown)?;
+        let game =
+            Config::from_toml_str(&header.game, &shown).map_err(|e| TrainError::Mismatch {
+                path: shown,
+                message: format!("game config: {e}"),
+            })?;
+        Ok(PolicyFile {
+            path,
+            file,
+            header,
+            config,
+            game,
+        })
+    }
+
+    /// The `model` section loaded into `model`, which must be the same network.
+    pub fn load_into<M: burn::module::Module>(&self, model: M) -> Result<M, TrainError> {
+        let bytes = self.file.section(&self.path, "model")?;
+        load_model(model, bytes, &self.path.display().to_string())
+    }
+}
+
+/// The error for a network trained on `trained` seated in `game`, if they differ.
+pub fn check_game(path: &Path, trained: &Config, game: &Config) -> Result<(), TrainError> {
+    if trained == game {
+        return Ok(());
+    }
+    Err(TrainError::WrongGame {
+        path: path.display().to_string(),
+        trained: trained.to_string(),
+        game: game.to_string(),
+    })
+}

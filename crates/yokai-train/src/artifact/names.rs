@@ -1,0 +1,20 @@
+//! The names of a run directory's files (their layout is described in the `run` module) and of a seed's
+//! run inside a method's directory.
+
+use std::path::{Path, PathBuf};
+
+pub const CHECKPOINT: &str = "checkpoint.ykc";
+pub const POLICY: &str = "policy.ykp";
+pub const METRICS: &str = "metrics.jsonl";
+pub const BELIEF_METRICS: &str = "belief.jsonl";
+
+/// Seed `seed`'s run in `path` when `path` is a directory of `seed-N` runs, else `path`
+/// itself: how `--init-from` and `obl.previous` name one run per seed.
+pub fn seed_path(path: &Path, seed: u64) -> PathBuf {
+    let per_seed = path.join(format!("seed-{seed}"));
+    if per_seed.is_dir() {
+        per_seed
+    } else {
+        path.to_path_buf()
+    }
+}

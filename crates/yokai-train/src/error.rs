@@ -1,0 +1,54 @@
+//! The crate's errors: what a person reads when a config, a file or a run is wrong.
+
+use std::path::PathBuf;
+use yokai_vec::VecError;
+
+/// Why training cannot go on.
+#[derive(Debug, thiserror::Error)]
+pub enum TrainError {
+    #[error(transparent)]
+    Config(#[from] crate::config::TrainConfigError),
+    #[error(transparent)]
+    File(#[from] FileError),
+    #[error(transparent)]
+    Backend(#[from] crate::backend::BackendError),
+    #[error("environment: {0}")]
+    Env(#[from] VecError),
+    #[error("{path}: {message}")]
+    Mismatch { path: String, message: String },
+    #[error("{path}: cannot load the network: {message}")]
+    Record { path: String, message: String },
+    #[error("{path}: {message}")]
+    Io { path: String, message: String },
+    /// An Off-Belief Learning continuation that could not be built (a bug, named).
+    #[error("off-belief learning: {0}")]
+    Obl(String),
+    #[error(
+        "{path} was trained on {trained}, not on {game}: its observations and actions do not fit"
+    )]
+    WrongGame {
+        path: String,
+        /// Names of the games (configs are large for an error value).
+        trained: String,
+        game: String,
+    },
+}
+
+/// A file that cannot be read as a checkpoint or policy, with where and why.
+#[derive(Debug, thiserror::Error)]
+pub enum FileError {
+    #[error("{path}: {message}")]
+    Io { path: PathBuf, message: String },
+    #[error("{path} is not a Yōkai checkpoint or policy file (it does not start with the format's magic bytes)")]
+    NotOurs { path: PathBuf },
+    #[error("{path} has format version {found}; this build reads version {reads}")]
+    Version {
+        path: PathBuf,
+        found: u32,
+        reads: u32,
+    },
+    #[error("{path} is corrupt: {what}")]
+    Corrupt { path: PathBuf, what: String },
+    #[error("{path} has no `{section}` section")]
+    Missing { path: PathBuf, section: String },
+}
