@@ -83,7 +83,7 @@ fn check(name: &str) {
             serde_json::from_str(g).unwrap(),
             serde_json::from_str(w).unwrap(),
         );
-        let moved: Vec<String> = w
+        let mut moved: Vec<String> = w
             .as_object()
             .unwrap()
             .iter()
@@ -95,6 +95,13 @@ fn check(name: &str) {
                 )
             })
             .collect();
+        moved.extend(
+            g.as_object()
+                .unwrap()
+                .iter()
+                .filter(|(key, _)| w.get(key.as_str()).is_none())
+                .map(|(key, value)| format!("{key}: not stored, now {value}")),
+        );
         panic!(
             "{name}: line {} of {path} differs (training changed, or this CPU rounds differently):\n  {}",
             k + 1,

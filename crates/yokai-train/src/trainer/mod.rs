@@ -54,6 +54,22 @@ pub struct UpdateStats {
     /// value means the recurrent state or the batch layout differs between acting and
     /// learning.
     pub replay_error: f64,
+    /// PPO's health, as CleanRL and JaxMARL log it (means over the update's minibatches):
+    /// the estimated KL divergence of the learner's policy from the rollout's, measured on
+    /// each minibatch before its step (mean of r − 1 − log r over the choosing rows, r the
+    /// probability ratio); the share of those rows whose ratio PPO clips; and the global L2
+    /// norm of the gradients before `ppo.max_grad_norm` clips them.
+    #[serde(default)]
+    pub approx_kl: f64,
+    #[serde(default)]
+    pub clip_fraction: f64,
+    #[serde(default)]
+    pub grad_norm: f64,
+    /// How much of the value targets' variance the critic predicted at the rollout
+    /// (1 − Var(return − V) / Var(return), over the rows that learn their value); `None`
+    /// when the targets did not vary.
+    #[serde(default)]
+    pub explained_variance: Option<f64>,
     /// Net change in clustered colours over the rollout's non-final steps, summed over
     /// games: what `ppo.cluster_shaping` paid before its weight (0 when it is off).
     #[serde(default)]
@@ -368,6 +384,14 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             lr,
             shaping,
             replay_error: losses.replay_error,
+            approx_kl: losses.approx_kl,
+            clip_fraction: losses.clip_fraction,
+            grad_norm: losses.grad_norm,
+            explained_variance: ppo::explained_variance(
+                &rollout.values,
+                &rollout.returns,
+                &rollout.value_weight,
+            ),
             cluster_reward: rollout.cluster_reward,
             belief_loss: losses.belief.map(|b| b.0),
             belief_accuracy: losses.belief.map(|b| b.1),

@@ -29,6 +29,12 @@ pub(super) struct Losses {
     /// With `belief_aux`: the colour cross-entropy (nats per card) and the share of cards
     /// whose most likely colour is the true one.
     pub belief: Option<(f64, f64)>,
+    /// The PPO diagnostics CleanRL and JaxMARL log (see `UpdateStats`): the estimated KL
+    /// from the rollout's policy, the share of clipped ratios, the gradients' global norm
+    /// before clipping.
+    pub approx_kl: f64,
+    pub clip_fraction: f64,
+    pub grad_norm: f64,
 }
 
 impl<E: Encoder, M: Recurrent> Trainer<E, M> {
@@ -58,6 +64,9 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
                 }
                 sum.policy += step.policy;
                 sum.value += step.value;
+                sum.approx_kl += step.approx_kl;
+                sum.clip_fraction += step.clip_fraction;
+                sum.grad_norm += step.grad_norm;
                 if let Some((loss, accuracy)) = step.belief {
                     let (l, a) = sum.belief.unwrap_or((0.0, 0.0));
                     sum.belief = Some((l + loss, a + accuracy));
@@ -71,6 +80,9 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             value: sum.value / n,
             replay_error: sum.replay_error,
             belief: sum.belief.map(|(l, a)| (l / n, a / n)),
+            approx_kl: sum.approx_kl / n,
+            clip_fraction: sum.clip_fraction / n,
+            grad_norm: sum.grad_norm / n,
         }
     }
 
@@ -108,7 +120,7 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         for out in &mut outs[1..] {
             add_grads(&self.model, &mut grads, std::mem::take(&mut out.grads));
         }
-        clip_global_norm(&self.model, &mut grads, c.max_grad_norm);
+        let grad_norm = clip_global_norm(&self.model, &mut grads, c.max_grad_norm);
         let model = self.model.clone();
         self.model = self.optim.step(lr, model, grads);
         let total = |f: fn(&ShardOut) -> f64| outs.iter().map(f).sum::<f64>();
@@ -118,6 +130,9 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             policy: total(|o| o.policy),
             value: total(|o| o.value),
             replay_error: total(|o| o.abs_delta) / n.max(1) as f64,
+            approx_kl: total(|o| o.kl) / n.max(1) as f64,
+            clip_fraction: total(|o| o.clipped) / n.max(1) as f64,
+            grad_norm,
             belief: (c.belief_aux > 0.0 && n > 0).then(|| {
                 let hits = total(|o| o.belief_hits as f64);
                 (total(|o| o.belief), hits / (n * y) as f64)
@@ -134,6 +149,11 @@ struct ShardOut {
     value: f64,
     /// Σ |log π_new − log π_old| over the shard's choosing rows.
     abs_delta: f64,
+    /// Σ (r − 1) − log r over the shard's choosing rows, r = π_new / π_old: the unbiased,
+    /// never negative estimator of KL(π_old ‖ π_new) that CleanRL logs as `approx_kl`.
+    kl: f64,
+    /// Choosing rows whose ratio lies outside [1 − clip, 1 + clip].
+    clipped: f64,
     belief: f64,
     /// Cards whose most likely colour is the true one.
     belief_hits: u64,
@@ -178,8 +198,8 @@ fn shard_step<E: Encoder, M: Recurrent>(
     let zero = Tensor::<1>::zeros([1], d).sum();
     let mut belief_loss = zero.clone();
     let mut belief_hits = 0;
-    let (policy_loss, ent, end_bonus, abs_delta) = if n == 0 {
-        (zero.clone(), zero.clone(), zero, 0.0)
+    let (policy_loss, ent, end_bonus, (abs_delta, kl, clipped)) = if n == 0 {
+        (zero.clone(), zero.clone(), zero, (0.0, 0.0, 0.0))
     } else {
         let idx = rows_tensor(s.choosing, d);
         // The pointer head also reads the chosen rows' observations.
@@ -226,11 +246,11 @@ fn shard_step<E: Encoder, M: Recurrent>(
         };
         let adv = tensor1(s.adv, d);
         let delta = logp - tensor1(s.old_logp, d);
-        let abs_delta = delta.clone().abs().sum().into_scalar::<f32>() as f64;
+        let diagnostics = ratio_diagnostics(delta.clone().detach(), c.clip);
         let ratio = delta.exp();
         let clipped = ratio.clone().clamp(1.0 - c.clip, 1.0 + c.clip);
         let policy_loss = (ratio * adv.clone()).min_pair(clipped * adv).sum().neg() / n_all;
-        (policy_loss, ent, end_bonus, abs_delta)
+        (policy_loss, ent, end_bonus, diagnostics)
     };
     let loss =
         policy_loss.clone() + value_loss.clone() * c.value_coef - ent * c.entropy_coef - end_bonus
@@ -240,9 +260,23 @@ fn shard_step<E: Encoder, M: Recurrent>(
         policy: policy_loss.into_scalar::<f32>() as f64,
         value: value_loss.into_scalar::<f32>() as f64,
         abs_delta,
+        kl,
+        clipped,
         belief: belief_loss.into_scalar::<f32>() as f64,
         belief_hits,
     }
+}
+
+/// Over rows with log-ratios `delta` = log π_new − log π_old: Σ |delta| (the replay
+/// check), Σ (r − 1 − log r) (approximate KL) and the count of ratios r outside
+/// [1 − clip, 1 + clip], read back in one transfer.
+fn ratio_diagnostics(delta: Tensor<1>, clip: f32) -> (f64, f64, f64) {
+    let ratio = delta.clone().exp();
+    let kl = (ratio.clone() - 1.0 - delta.clone()).sum();
+    let outside = (ratio - 1.0).abs().greater_elem(clip).float().sum();
+    let sums = Tensor::cat(vec![delta.abs().sum(), kl, outside], 0);
+    let v = crate::tensor::to_vec(sums);
+    (v[0] as f64, v[1] as f64, v[2] as f64)
 }
 
 /// Add the gradients `from` into `into`, parameter by parameter; a gradient missing on
@@ -293,8 +327,11 @@ fn end_target_gain(log_p_end: Tensor<1>, end_adv: Tensor<1>, end_legal: Tensor<1
     (target.clone() * log_p_end + (target.neg() + 1.0) * log_rest) * end_legal
 }
 
-/// Scale all gradients together so that their global L2 norm is at most `max_norm`.
-fn clip_global_norm<M: Module>(model: &M, grads: &mut GradientsParams, max_norm: f32) {
+/// Scale all gradients together so that their global L2 norm is at most `max_norm`, and
+/// return the norm before scaling. burn's own clipping (`GradientClipping::Norm`) clips
+/// each parameter's tensor by its own norm, which changes the gradient's direction; PPO's
+/// clip (as in CleanRL's `clip_grad_norm_`) scales all of them by one factor.
+fn clip_global_norm<M: Module>(model: &M, grads: &mut GradientsParams, max_norm: f32) -> f64 {
     struct Norm<'a> {
         grads: &'a GradientsParams,
         sum: f64,
@@ -331,11 +368,65 @@ fn clip_global_norm<M: Module>(model: &M, grads: &mut GradientsParams, max_norm:
         };
         let _ = model.clone().map(&mut scale);
     }
+    total as f64
+}
+
+/// 1 − Var(returns − values) / Var(returns) over the rows with weight > 0 (all rows when
+/// `weight` is empty): 1 when the critic predicts its targets exactly, 0 when it does no
+/// better than their mean, negative when worse. `None` when the targets do not vary.
+pub(super) fn explained_variance(values: &[f32], returns: &[f32], weight: &[f32]) -> Option<f64> {
+    let rows = (0..values.len()).filter(|&i| weight.get(i).is_none_or(|&w| w > 0.0));
+    let (mut n, mut sr, mut sr2, mut se, mut se2) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    for i in rows {
+        let (r, e) = (returns[i] as f64, (returns[i] - values[i]) as f64);
+        n += 1.0;
+        sr += r;
+        sr2 += r * r;
+        se += e;
+        se2 += e * e;
+    }
+    let var = |s: f64, s2: f64| s2 / n - (s / n) * (s / n);
+    let var_returns = var(sr, sr2);
+    (n > 0.0 && var_returns > 1e-12).then(|| 1.0 - var(se, se2) / var_returns)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn explained_variance_is_one_for_a_perfect_critic_and_zero_for_the_mean() {
+        let returns = [1.0, 2.0, 3.0, 6.0];
+        assert_eq!(explained_variance(&returns, &returns, &[]), Some(1.0));
+        let mean = [3.0; 4];
+        assert!(explained_variance(&mean, &returns, &[]).unwrap().abs() < 1e-12);
+        // A critic off by a constant explains all the variance; one that predicts the
+        // opposite explains less than none.
+        let shifted = returns.map(|r| r + 5.0);
+        assert!((explained_variance(&shifted, &returns, &[]).unwrap() - 1.0).abs() < 1e-12);
+        let opposite = returns.map(|r| 6.0 - r);
+        assert!(explained_variance(&opposite, &returns, &[]).unwrap() < 0.0);
+        // Rows of weight 0 are left out; constant targets explain nothing to compare.
+        let weights = [1.0, 1.0, 0.0, 0.0];
+        let values = [1.0, 2.0, 99.0, -99.0];
+        assert_eq!(explained_variance(&values, &returns, &weights), Some(1.0));
+        assert_eq!(explained_variance(&[0.0; 3], &[2.0; 3], &[]), None);
+    }
+
+    #[test]
+    fn ratio_diagnostics_measure_kl_and_clipping_as_cleanrl_does() {
+        let d = crate::device::default_device();
+        let logr = [0.0f32, 0.1, -0.3, 0.25];
+        let (abs, kl, outside) = ratio_diagnostics(tensor1(logr.to_vec(), &d), 0.2);
+        let want_kl: f64 = logr
+            .iter()
+            .map(|&x| (x as f64).exp() - 1.0 - x as f64)
+            .sum();
+        assert!((abs - 0.65).abs() < 1e-6, "{abs}");
+        assert!((kl - want_kl).abs() < 1e-6, "{kl} vs {want_kl}");
+        // r = 1, 1.105, 0.741, 1.284: two lie outside [0.8, 1.2].
+        assert_eq!(outside, 2.0);
+    }
 
     /// The target END term's gradient on the END log-odds is σ(advantage / T) − P(END): it does
     /// not fade where P(END) is tiny, never exceeds 1 whatever the advantage, and rows where
