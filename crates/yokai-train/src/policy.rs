@@ -3,14 +3,11 @@
 
 use crate::artifact::safetensors;
 use crate::artifact::{check_game, FileHeader, PolicyFile};
-use crate::config::{ActConfig, EncoderKind, MemoryKind};
+use crate::config::ActConfig;
 use crate::device::default_device;
 use crate::distribution::{decide_end_row, sample_row};
 use crate::error::TrainError;
-use crate::network::{
-    ActorCritic, CnnEncoder, Encoder, GraphEncoder, GruCell, MlpEncoder, PublicPrivateEncoder,
-    Recurrent, SeatStep, TransformerXl,
-};
+use crate::network::{for_network, ActorCritic, Encoder, GruCell, NetworkJob, Recurrent, SeatStep};
 use burn::prelude::*;
 use burn::tensor::TensorData;
 use rand_chacha::rand_core::SeedableRng;
@@ -20,45 +17,90 @@ use yokai_agents::Policy;
 use yokai_engine::{Action, Config, Game, Seat, SeatView};
 use yokai_vec::Encoding;
 
-/// A loaded network, one variant per encoder type.
-#[derive(Clone, Debug)]
-enum Net {
-    Cnn(Box<ActorCritic<CnnEncoder, GruCell>>),
-    PublicPrivate(Box<ActorCritic<PublicPrivateEncoder, GruCell>>),
-    Mlp(Box<ActorCritic<MlpEncoder, GruCell>>),
-    Graph(Box<ActorCritic<GraphEncoder, GruCell>>),
-    CnnTrxl(Box<ActorCritic<CnnEncoder, TransformerXl>>),
-    PublicPrivateTrxl(Box<ActorCritic<PublicPrivateEncoder, TransformerXl>>),
-    MlpTrxl(Box<ActorCritic<MlpEncoder, TransformerXl>>),
-    GraphTrxl(Box<ActorCritic<GraphEncoder, TransformerXl>>),
+/// A loaded network of any type, behind what a policy needs of it. Which type it is was
+/// chosen once, by [`for_network`], when the file was loaded.
+trait LoadedNet: std::fmt::Debug + Send + Sync {
+    fn clone_box(&self) -> Box<dyn LoadedNet>;
+    fn parameters(&self) -> Vec<f32>;
+    fn write_safetensors(&self, metadata: &[(&str, String)], path: &Path)
+        -> Result<(), TrainError>;
+    fn encoding(&self) -> Encoding;
+    fn hidden_size(&self) -> usize;
+    fn recur(&self, obs: Tensor<2>, states: Tensor<2>, keep: Tensor<2>) -> Tensor<2>;
+    fn step_seats(
+        &self,
+        rows: &[(&Game, Seat)],
+        states: Vec<f32>,
+        keep: Vec<f32>,
+        device: &Device,
+    ) -> SeatStep;
+    /// A seat-holder playing this network for `from`'s game, sampling with `seed`.
+    fn seat(&self, from: &TrainedPolicy, seed: u64) -> Box<dyn Policy>;
 }
 
-/// `$body` with `$m` bound to the network of whichever variant `$net` holds: the one place
-/// that lists the variants, so a new encoder type is one line here.
-macro_rules! with_net {
-    ($net:expr, $m:ident => $body:expr) => {
-        match $net {
-            Net::Cnn($m) => $body,
-            Net::PublicPrivate($m) => $body,
-            Net::Mlp($m) => $body,
-            Net::Graph($m) => $body,
-            Net::CnnTrxl($m) => $body,
-            Net::PublicPrivateTrxl($m) => $body,
-            Net::MlpTrxl($m) => $body,
-            Net::GraphTrxl($m) => $body,
-        }
-    };
+impl<E: Encoder + 'static, M: Recurrent + 'static> LoadedNet for ActorCritic<E, M> {
+    fn clone_box(&self) -> Box<dyn LoadedNet> {
+        Box::new(self.clone())
+    }
+    fn parameters(&self) -> Vec<f32> {
+        crate::tensor::parameters(self)
+    }
+    fn write_safetensors(
+        &self,
+        metadata: &[(&str, String)],
+        path: &Path,
+    ) -> Result<(), TrainError> {
+        safetensors::write(self, metadata, path)
+    }
+    fn encoding(&self) -> Encoding {
+        E::encoding()
+    }
+    fn hidden_size(&self) -> usize {
+        ActorCritic::hidden_size(self)
+    }
+    fn recur(&self, obs: Tensor<2>, states: Tensor<2>, keep: Tensor<2>) -> Tensor<2> {
+        ActorCritic::recur(self, obs, states, keep)
+    }
+    fn step_seats(
+        &self,
+        rows: &[(&Game, Seat)],
+        states: Vec<f32>,
+        keep: Vec<f32>,
+        device: &Device,
+    ) -> SeatStep {
+        ActorCritic::step_seats(self, rows, states, keep, device)
+    }
+    fn seat(&self, from: &TrainedPolicy, seed: u64) -> Box<dyn Policy> {
+        Box::new(NetworkPolicy::new(self.clone(), from, seed))
+    }
 }
 
-/// The observation encoding a network's encoder reads.
-fn encoding_of<E: Encoder, M: Recurrent>(_: &ActorCritic<E, M>) -> Encoding {
-    E::encoding()
+impl Clone for Box<dyn LoadedNet> {
+    fn clone(&self) -> Self {
+        self.clone_box()
+    }
+}
+
+/// Loading a policy file's network as a [`NetworkJob`]: the type its config names, its
+/// weights from the file.
+struct Load<'a> {
+    opened: &'a PolicyFile,
+    device: &'a Device,
+}
+
+impl NetworkJob for Load<'_> {
+    type Output = Result<Box<dyn LoadedNet>, TrainError>;
+    fn run<E: Encoder + 'static, M: Recurrent + 'static>(self) -> Self::Output {
+        let (config, game) = (&self.opened.config, &self.opened.game);
+        let net = ActorCritic::<E, M>::new(config, game, 0, self.device);
+        Ok(Box::new(self.opened.load_into(net)?))
+    }
 }
 
 /// A trained network loaded from disk, ready to be seated any number of times.
 #[derive(Clone, Debug)]
 pub struct TrainedPolicy {
-    net: Net,
+    net: Box<dyn LoadedNet>,
     game: Config,
     header: FileHeader,
     path: PathBuf,
@@ -73,27 +115,16 @@ impl TrainedPolicy {
     pub fn load(path: &Path) -> Result<TrainedPolicy, TrainError> {
         let opened = PolicyFile::open(path)?;
         let device = default_device();
-        let (config, game) = (&opened.config, &opened.game);
-        // The file's weights in a network of the type its config names.
-        macro_rules! load {
-            () => {
-                Box::new(opened.load_into(ActorCritic::new(config, game, 0, &device))?)
-            };
-        }
-        use EncoderKind::*;
-        let net = match (config.network.encoder(), config.network.memory) {
-            (Cnn, MemoryKind::Gru) => Net::Cnn(load!()),
-            (PublicPrivate, MemoryKind::Gru) => Net::PublicPrivate(load!()),
-            (Mlp, MemoryKind::Gru) => Net::Mlp(load!()),
-            (Gcn | Gatv2 | Relation, MemoryKind::Gru) => Net::Graph(load!()),
-            (Cnn, MemoryKind::Trxl) => Net::CnnTrxl(load!()),
-            (PublicPrivate, MemoryKind::Trxl) => Net::PublicPrivateTrxl(load!()),
-            (Mlp, MemoryKind::Trxl) => Net::MlpTrxl(load!()),
-            (Gcn | Gatv2 | Relation, MemoryKind::Trxl) => Net::GraphTrxl(load!()),
-        };
+        let net = for_network(
+            &opened.config.network,
+            Load {
+                opened: &opened,
+                device: &device,
+            },
+        )?;
         Ok(TrainedPolicy {
             net,
-            end_threshold: config.act.end_threshold,
+            end_threshold: opened.config.act.end_threshold,
             game: opened.game,
             header: opened.header,
             path: opened.path,
@@ -126,7 +157,7 @@ impl TrainedPolicy {
     /// Every parameter of the network, flattened (to compare two trained networks: the
     /// files themselves also hold burn's per-process parameter ids).
     pub fn parameters(&self) -> Vec<f32> {
-        with_net!(&self.net, net => crate::tensor::parameters(net.as_ref()))
+        self.net.parameters()
     }
 
     pub fn header(&self) -> &FileHeader {
@@ -151,7 +182,7 @@ impl TrainedPolicy {
             ),
             (META_HIDDEN, self.hidden_size().to_string()),
         ];
-        with_net!(&self.net, m => write(m.as_ref(), &metadata, path))
+        self.net.write_safetensors(&metadata, path)
     }
 
     /// A trained network fits only the game it was trained on.
@@ -161,12 +192,12 @@ impl TrainedPolicy {
 
     /// The observation encoding the network reads.
     pub fn encoding(&self) -> Encoding {
-        with_net!(&self.net, m => encoding_of(m.as_ref()))
+        self.net.encoding()
     }
 
     /// Width of the network's recurrent state.
     pub fn hidden_size(&self) -> usize {
-        with_net!(&self.net, m => m.hidden_size())
+        self.net.hidden_size()
     }
 
     /// One step of the network's memory for `rows` seats at once, as in training:
@@ -176,7 +207,7 @@ impl TrainedPolicy {
     /// (a partner replayed up to the present).
     pub fn recur_batch(&self, obs: Vec<f32>, states: Vec<f32>, keep: Vec<f32>) -> Vec<f32> {
         let (o, s, k) = self.batch_tensors(obs, states, keep);
-        crate::tensor::to_vec(with_net!(&self.net, m => m.recur(o, s, k)))
+        crate::tensor::to_vec(self.net.recur(o, s, k))
     }
 
     /// Observations `[rows, L]`, states `[rows, H]` and `keep` `[rows, 1]` as tensors.
@@ -201,12 +232,12 @@ impl TrainedPolicy {
     /// memory steps, and the actor runs for the seats whose turn it is. For callers that
     /// drive many seats of many games (the probe recorder, OBL's belief data and partners).
     pub fn step_seats(&self, rows: &[(&Game, Seat)], states: Vec<f32>, keep: Vec<f32>) -> SeatStep {
-        with_net!(&self.net, m => m.step_seats(rows, states, keep, &self.device))
+        self.net.step_seats(rows, states, keep, &self.device)
     }
 
     /// A fresh seat-holder; `seed` drives its action sampling.
     pub fn build(&self, seed: u64) -> Box<dyn Policy> {
-        with_net!(&self.net, m => Box::new(NetworkPolicy::new((**m).clone(), self, seed)))
+        self.net.seat(self, seed)
     }
 }
 

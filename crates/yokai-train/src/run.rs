@@ -14,12 +14,9 @@
 use crate::artifact::names::{BELIEF_METRICS, CHECKPOINT, METRICS, POLICY};
 use crate::artifact::read_header;
 use crate::backend::Backend;
-use crate::config::{EncoderKind, MemoryKind, TrainConfig};
+use crate::config::TrainConfig;
 use crate::error::TrainError;
-use crate::network::{
-    CnnEncoder, Encoder, GraphEncoder, GruCell, MlpEncoder, PublicPrivateEncoder, Recurrent,
-    TransformerXl,
-};
+use crate::network::{for_network, Encoder, NetworkJob, Recurrent};
 use crate::trainer::{Trainer, UpdateStats};
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -70,26 +67,18 @@ pub fn train_run(
     request: &RunRequest<'_>,
     on_update: &mut dyn FnMut(&UpdateStats, u64),
 ) -> Result<RunSummary, TrainError> {
-    use EncoderKind::*;
-    let network = &request.config.network;
-    match (network.encoder(), network.memory) {
-        (Cnn, MemoryKind::Gru) => run::<CnnEncoder, GruCell>(request, on_update),
-        (PublicPrivate, MemoryKind::Gru) => {
-            run::<PublicPrivateEncoder, GruCell>(request, on_update)
-        }
-        (Mlp, MemoryKind::Gru) => run::<MlpEncoder, GruCell>(request, on_update),
-        (Gcn | Gatv2 | Relation, MemoryKind::Gru) => {
-            run::<GraphEncoder, GruCell>(request, on_update)
-        }
-        (Cnn, MemoryKind::Trxl) => run::<CnnEncoder, TransformerXl>(request, on_update),
-        (PublicPrivate, MemoryKind::Trxl) => {
-            run::<PublicPrivateEncoder, TransformerXl>(request, on_update)
-        }
-        (Mlp, MemoryKind::Trxl) => run::<MlpEncoder, TransformerXl>(request, on_update),
-        (Gcn | Gatv2 | Relation, MemoryKind::Trxl) => {
-            run::<GraphEncoder, TransformerXl>(request, on_update)
+    /// Training as a [`NetworkJob`]: `run` with the config's network types.
+    struct Train<'a, 'b, 'c> {
+        request: &'a RunRequest<'b>,
+        on_update: &'c mut dyn FnMut(&UpdateStats, u64),
+    }
+    impl NetworkJob for Train<'_, '_, '_> {
+        type Output = Result<RunSummary, TrainError>;
+        fn run<E: Encoder + 'static, M: Recurrent + 'static>(self) -> Self::Output {
+            run::<E, M>(self.request, self.on_update)
         }
     }
+    for_network(&request.config.network, Train { request, on_update })
 }
 
 /// The training config a run's checkpoint was written with, read from its header.

@@ -26,6 +26,31 @@ use burn::tensor::activation::{relu, sigmoid, tanh};
 use yokai_engine::{Config, ImageLayout, Part};
 use yokai_vec::Encoding;
 
+/// Work to do with the network types a config names, whichever they are: [`for_network`]
+/// calls `run` with the encoder and memory types of a `NetworkConfig`. Training a run and
+/// loading a policy file are both such jobs.
+pub trait NetworkJob {
+    type Output;
+    fn run<E: Encoder + 'static, M: Recurrent + 'static>(self) -> Self::Output;
+}
+
+/// Run `job` with the encoder and memory types `network` names: the one place that maps a
+/// config's `network.encoder` × `network.memory` to Rust types, so a new encoder or memory
+/// is one line here.
+pub fn for_network<J: NetworkJob>(network: &NetworkConfig, job: J) -> J::Output {
+    use EncoderKind::*;
+    match (network.encoder(), network.memory) {
+        (Cnn, MemoryKind::Gru) => job.run::<CnnEncoder, GruCell>(),
+        (PublicPrivate, MemoryKind::Gru) => job.run::<PublicPrivateEncoder, GruCell>(),
+        (Mlp, MemoryKind::Gru) => job.run::<MlpEncoder, GruCell>(),
+        (Gcn | Gatv2 | Relation, MemoryKind::Gru) => job.run::<GraphEncoder, GruCell>(),
+        (Cnn, MemoryKind::Trxl) => job.run::<CnnEncoder, TransformerXl>(),
+        (PublicPrivate, MemoryKind::Trxl) => job.run::<PublicPrivateEncoder, TransformerXl>(),
+        (Mlp, MemoryKind::Trxl) => job.run::<MlpEncoder, TransformerXl>(),
+        (Gcn | Gatv2 | Relation, MemoryKind::Trxl) => job.run::<GraphEncoder, TransformerXl>(),
+    }
+}
+
 /// Maps a batch of flattened observations `[B, L]` to embeddings `[B, output_size]`.
 pub trait Encoder: Module + burn::module::ModuleDisplay + Sized + Sync {
     /// The `network.encoder` kinds this type implements (a checkpoint's config names one).
