@@ -10,7 +10,7 @@ use crate::distribution::{binary_entropy, chosen_log_prob, entropy, masked_log_s
 use crate::network::{shards_on, Encoder, Recurrent};
 use crate::tensor::{rows_tensor, tensor1, tensor2};
 use burn::module::{Module, ModuleMapper, ModuleVisitor, Param};
-use burn::optim::GradientsParams;
+use burn::optim::{GradientsAccumulator, GradientsParams};
 use burn::prelude::*;
 use burn::tensor::activation::log_softmax;
 use burn::tensor::TensorData;
@@ -116,10 +116,13 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
                 .map(|s| shard_step(&model.clone().fork(device), s, &totals, &c, game, device))
                 .collect()
         };
-        let mut grads = std::mem::take(&mut outs[0].grads);
-        for out in &mut outs[1..] {
-            add_grads(&self.model, &mut grads, std::mem::take(&mut out.grads));
+        // The shards' gradients summed, parameter by parameter (a gradient missing in a
+        // shard without a choosing row, the actor's, counts as 0).
+        let mut sum = GradientsAccumulator::new();
+        for out in &mut outs {
+            sum.accumulate(&self.model, std::mem::take(&mut out.grads));
         }
+        let mut grads = sum.grads();
         let grad_norm = clip_global_norm(&self.model, &mut grads, c.max_grad_norm);
         let model = self.model.clone();
         self.model = self.optim.step(lr, model, grads);
@@ -277,31 +280,6 @@ fn ratio_diagnostics(delta: Tensor<1>, clip: f32) -> (f64, f64, f64) {
     let sums = Tensor::cat(vec![delta.abs().sum(), kl, outside], 0);
     let v = crate::tensor::to_vec(sums);
     (v[0] as f64, v[1] as f64, v[2] as f64)
-}
-
-/// Add the gradients `from` into `into`, parameter by parameter; a gradient missing on
-/// either side (the actor's, in a shard without a choosing row) counts as 0.
-fn add_grads<M: Module>(model: &M, into: &mut GradientsParams, mut from: GradientsParams) {
-    struct Add<'a> {
-        into: &'a mut GradientsParams,
-        from: &'a mut GradientsParams,
-    }
-    impl ModuleVisitor for Add<'_> {
-        fn visit_float<const D: usize>(&mut self, param: &Param<Tensor<D>>) {
-            let Some(g) = self.from.remove::<D>(param.id) else {
-                return;
-            };
-            let sum = match self.into.remove::<D>(param.id) {
-                Some(mine) => mine + g,
-                None => g,
-            };
-            self.into.register(param.id, sum);
-        }
-    }
-    model.visit(&mut Add {
-        into,
-        from: &mut from,
-    });
 }
 
 /// Cards among `[n, Y, C]` whose most likely colour under `log_p` is the true one.
