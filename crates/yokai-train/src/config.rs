@@ -534,13 +534,6 @@ impl TrainConfig {
 
     /// Check every field a typo or a bad value could break, naming the field.
     pub fn validate(&self, origin: &str) -> Result<(), TrainConfigError> {
-        let bad = |field: &'static str, message: &str| {
-            Err(TrainConfigError::Invalid {
-                origin: origin.to_string(),
-                field,
-                message: message.to_string(),
-            })
-        };
         let game = self.game_config().map_err(|e| match e {
             TrainConfigError::Game { source, .. } => TrainConfigError::Game {
                 origin: origin.to_string(),
@@ -548,14 +541,71 @@ impl TrainConfig {
             },
             other => other,
         })?;
-        let p = &self.ppo;
+        self.ppo
+            .check(game.players())
+            .and_then(|()| self.network.check(&game))
+            .and_then(|()| self.obl.check())
+            .and_then(|()| self.check_combinations())
+            .map_err(|(field, message)| TrainConfigError::Invalid {
+                origin: origin.to_string(),
+                field,
+                message,
+            })
+    }
+
+    /// The rules that tie fields of different sections together.
+    fn check_combinations(&self) -> Checked {
+        let (p, n) = (&self.ppo, &self.network);
+        if let Some(t) = self.act.end_threshold {
+            if let Err(why) = ActConfig::end_threshold_from(t.into()) {
+                return bad("act.end_threshold", &why);
+            }
+        }
+        if p.belief_aux > 0.0 && n.head != ActionHead::Pointer {
+            return bad(
+                "ppo.belief_aux",
+                "reads the pointer head's card embeddings: it needs network.head = \"pointer\"",
+            );
+        }
+        if self.obl.level >= 1 {
+            if self.algorithm.symmetries != SymmetrySet::None {
+                return bad(
+                    "obl.level",
+                    "OBL trains without Other-Play symmetries: set algorithm.symmetries = \"none\"",
+                );
+            }
+            if p.cluster_shaping > 0.0 {
+                return bad(
+                    "ppo.cluster_shaping",
+                    "is not paid in OBL's fictitious continuations: set it to 0",
+                );
+            }
+        }
+        if self.run.checkpoint_every == 0 || self.run.log_every == 0 {
+            return bad("run.checkpoint_every / run.log_every", "must be at least 1");
+        }
+        Ok(())
+    }
+}
+
+/// A section's check: `Err((field, why))` names the first field that is wrong.
+type Checked = Result<(), (&'static str, String)>;
+
+fn bad(field: &'static str, message: &str) -> Checked {
+    Err((field, message.to_string()))
+}
+
+impl PpoConfig {
+    /// The PPO section on its own, for a game of `players` seats.
+    fn check(&self, players: usize) -> Checked {
+        let p = self;
         if p.num_envs == 0 {
             return bad("ppo.num_envs", "must be at least 1");
         }
         if p.rollout_steps == 0 {
             return bad("ppo.rollout_steps", "must be at least 1");
         }
-        if p.minibatches == 0 || p.minibatches > p.num_envs * game.players() {
+        if p.minibatches == 0 || p.minibatches > p.num_envs * players {
             return bad(
                 "ppo.minibatches",
                 "must be between 1 and num_envs × players (minibatches split whole sequences)",
@@ -576,27 +626,32 @@ impl TrainConfig {
                 "must be positive",
             );
         }
-        if let Some(t) = self.act.end_threshold {
-            if let Err(why) = ActConfig::end_threshold_from(t.into()) {
-                return bad("act.end_threshold", &why);
-            }
-        }
-        if !(p.end_lookahead >= 0.0 && p.end_lookahead.is_finite()) {
-            return bad("ppo.end_lookahead", "must be a number ≥ 0");
-        }
         if !(p.shaping_fraction > 0.0 && p.shaping_fraction <= 1.0) {
             return bad("ppo.shaping_fraction", "must lie in (0, 1]");
         }
-        if !(p.end_entropy_coef >= 0.0 && p.end_entropy_coef.is_finite()) {
-            return bad("ppo.end_entropy_coef", "must be a number ≥ 0");
+        // Weights of optional terms: 0 turns a term off, and none may be negative.
+        for (field, weight) in [
+            ("ppo.end_lookahead", p.end_lookahead),
+            ("ppo.end_entropy_coef", p.end_entropy_coef),
+            ("ppo.cluster_shaping", p.cluster_shaping),
+            ("ppo.belief_aux", p.belief_aux),
+        ] {
+            if !(weight >= 0.0 && weight.is_finite()) {
+                return bad(field, "must be a number ≥ 0");
+            }
         }
-        if !(p.cluster_shaping >= 0.0 && p.cluster_shaping.is_finite()) {
-            return bad("ppo.cluster_shaping", "must be a number ≥ 0");
-        }
-        if self.network.hidden == 0 || self.network.filters == 0 {
+        Ok(())
+    }
+}
+
+impl NetworkConfig {
+    /// The network section on its own, for `game` (the CNN needs a large enough grid).
+    fn check(&self, game: &Config) -> Checked {
+        let n = self;
+        if n.hidden == 0 || n.filters == 0 {
             return bad("network.hidden / network.filters", "must be at least 1");
         }
-        let encoder = self.network.encoder();
+        let encoder = n.encoder();
         if !encoder.reads_graph() && game.grid() < 9 {
             return bad(
                 "network.encoder",
@@ -604,23 +659,19 @@ impl TrainConfig {
                  valid 3×3 convolutions)",
             );
         }
-        if self.network.head == ActionHead::Pointer && !encoder.reads_graph() {
+        if n.head == ActionHead::Pointer && !encoder.reads_graph() {
             return bad(
                 "network.head",
                 "pointer reads the graph node features: it needs network.preset = \"compact\" \
                  or a graph encoder (network.encoder = \"mlp\", \"gcn\", \"gatv2\" or \"relation\")",
             );
         }
-        if self.network.graph_layers == 0
-            || self.network.graph_width == 0
-            || self.network.graph_width % GRAPH_HEADS != 0
-        {
+        if n.graph_layers == 0 || n.graph_width == 0 || n.graph_width % GRAPH_HEADS != 0 {
             return bad(
                 "network.graph_layers / network.graph_width",
                 "need at least 1 layer and a width that is a positive multiple of 4 (the heads)",
             );
         }
-        let n = &self.network;
         if n.trxl_heads == 0 || n.trxl_width == 0 || n.trxl_width % n.trxl_heads != 0 {
             return bad(
                 "network.trxl_width / network.trxl_heads",
@@ -633,71 +684,53 @@ impl TrainConfig {
                 "need at least 1 remembered step and a finite gate bias",
             );
         }
-        if !(p.belief_aux >= 0.0 && p.belief_aux.is_finite()) {
-            return bad("ppo.belief_aux", "must be a number ≥ 0");
-        }
-        if p.belief_aux > 0.0 && self.network.head != ActionHead::Pointer {
-            return bad(
-                "ppo.belief_aux",
-                "reads the pointer head's card embeddings: it needs network.head = \"pointer\"",
-            );
-        }
-        if self.network.pointer_pool && self.network.head != ActionHead::Pointer {
+        if n.pointer_pool && n.head != ActionHead::Pointer {
             return bad("network.pointer_pool", "needs network.head = \"pointer\"");
         }
-        if self.obl.level >= 2 && self.obl.previous.is_none() {
+        Ok(())
+    }
+}
+
+impl OblConfig {
+    /// The OBL section on its own.
+    fn check(&self) -> Checked {
+        let o = self;
+        if o.level >= 2 && o.previous.is_none() {
             return bad(
                 "obl.previous",
                 "is needed from level 2 on: the previous level's policy (its run directory)",
             );
         }
-        if self.obl.oracle && self.obl.level != 1 {
+        if o.oracle && o.level != 1 {
             return bad(
                 "obl.oracle",
                 "is a level-1 diagnostic (the true colours in place of the exact belief)",
             );
         }
-        if self.obl.level < 2 && self.obl.previous.is_some() {
+        if o.level < 2 && o.previous.is_some() {
             return bad(
                 "obl.previous",
                 "is read from level 2 on only (level 1's previous level is random play)",
             );
         }
-        if self.obl.level >= 2 && (self.obl.belief_updates == 0 || self.obl.belief_hidden == 0) {
+        if o.level >= 2 && (o.belief_updates == 0 || o.belief_hidden == 0) {
             return bad(
                 "obl.belief_updates / obl.belief_hidden",
                 "must be at least 1",
             );
         }
-        if self.obl.decisions == 0 {
+        if o.decisions == 0 {
             return bad(
                 "obl.decisions",
                 "must be at least 1 (1: bootstrap where the seat acts again)",
             );
         }
-        if self.obl.decisions > 1 && self.obl.partner != OblPartner::Learner {
+        if o.decisions > 1 && o.partner != OblPartner::Learner {
             return bad(
                 "obl.decisions",
                 "above 1 has the learner play on after the seat's next decision, so the \
                  partners must be the learner too: set obl.partner = \"learner\"",
             );
-        }
-        if self.obl.level >= 1 {
-            if self.algorithm.symmetries != SymmetrySet::None {
-                return bad(
-                    "obl.level",
-                    "OBL trains without Other-Play symmetries: set algorithm.symmetries = \"none\"",
-                );
-            }
-            if p.cluster_shaping > 0.0 {
-                return bad(
-                    "ppo.cluster_shaping",
-                    "is not paid in OBL's fictitious continuations: set it to 0",
-                );
-            }
-        }
-        if self.run.checkpoint_every == 0 || self.run.log_every == 0 {
-            return bad("run.checkpoint_every / run.log_every", "must be at least 1");
         }
         Ok(())
     }
