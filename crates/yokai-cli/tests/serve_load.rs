@@ -7,9 +7,10 @@
 mod server;
 
 use serde_json::{json, Value};
-use server::{answer, id, play_out, tempdir, Server};
+use server::{answer, id, play_out, play_out_resyncing, tempdir, Server};
 use std::collections::HashMap;
 use std::process::Command;
+use std::sync::atomic::AtomicUsize;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
@@ -32,15 +33,16 @@ fn five_hundred_games_at_once_all_finish_with_valid_records_in_bounded_memory() 
         .map(|i| server.new_game(&sessions[i % SESSIONS], json!({})))
         .collect();
     let start = Instant::now();
+    let resets = AtomicUsize::new(0);
     let ends: Vec<Value> = std::thread::scope(|scope| {
         let handles: Vec<_> = games
             .into_iter()
             .enumerate()
             .map(|(i, game)| {
-                let server = &server;
+                let (server, resets) = (&server, &resets);
                 std::thread::Builder::new()
                     .stack_size(256 * 1024)
-                    .spawn_scoped(scope, move || play_out(server, game, i))
+                    .spawn_scoped(scope, move || play_out_resyncing(server, game, i, resets))
                     .unwrap()
             })
             .collect();
@@ -79,6 +81,12 @@ fn five_hundred_games_at_once_all_finish_with_valid_records_in_bounded_memory() 
         now_kib / 1024
     );
     assert_eq!(refused, 0, "no request within the limits is refused");
+    // About one run in ten sees a connection reset before any answer (1-2 of ~11,000
+    // requests; docs/reliability.md); the client reads the game again and plays on. More
+    // than a handful is a fault of the server.
+    let resets = resets.into_inner();
+    eprintln!("{resets} connections reset before an answer");
+    assert!(resets <= 5, "{resets} connections reset");
     // The measured peak was 74-96 MiB (docs/reliability.md); 256 MiB fails.
     assert!(peak_kib < 256 * 1024, "peak memory {peak_kib} KiB");
     let (_, summary) = server.get(&format!("/api/summary?session={}", sessions[0]));

@@ -121,6 +121,15 @@ impl Server {
 
 impl Drop for Server {
     fn drop(&mut self) {
+        // A server that stopped on its own (not killed by a test) says why.
+        if let Ok(Some(status)) = self.child.try_wait() {
+            let log = self.log.lock().unwrap();
+            let tail = &log[log.len().saturating_sub(5)..];
+            eprintln!(
+                "the server had exited ({status}); its last lines:\n{}",
+                tail.join("\n")
+            );
+        }
         let _ = self.child.kill();
         let _ = self.child.wait();
     }
@@ -165,6 +174,48 @@ pub fn play_out(server: &Server, mut game: Value, k: usize) -> Value {
         );
         assert_eq!(frames.last(), Some(&next["board"]));
         game = next;
+        moves += 1;
+        assert!(moves < 500, "the game does not end");
+    }
+    game
+}
+
+/// Like [`play_out`], but a request whose connection is reset before any answer is not
+/// fatal: the game is read again and play goes on from it, as the page does after an
+/// error. Each such reset is counted in `resets`.
+pub fn play_out_resyncing(
+    server: &Server,
+    mut game: Value,
+    k: usize,
+    resets: &std::sync::atomic::AtomicUsize,
+) -> Value {
+    let mut moves = 0;
+    while !game["board"]["over"].as_bool().unwrap() {
+        let legal = game["board"]["legal"].as_array().unwrap().clone();
+        let pick = legal[(k + moves) % legal.len()]["index"].as_u64().unwrap();
+        let body =
+            json!({"session": game["session"], "seat": game["board"]["viewer"], "action": pick});
+        let url = format!("{}/api/games/{}/actions", server.base, id(&game));
+        game = match server.agent.post(&url).send_string(&body.to_string()) {
+            Ok(res) => res.into_json().unwrap(),
+            Err(ureq::Error::Transport(_)) => {
+                resets.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                let path = format!(
+                    "/api/games/{}?session={}",
+                    id(&game),
+                    game["session"].as_str().unwrap()
+                );
+                (0..3)
+                    .find_map(|_| {
+                        match server.agent.get(&format!("{}{path}", server.base)).call() {
+                            Ok(res) => Some(res.into_json().unwrap()),
+                            Err(_) => None,
+                        }
+                    })
+                    .expect("the game can be read again")
+            }
+            Err(e) => panic!("{e}"),
+        };
         moves += 1;
         assert!(moves < 500, "the game does not end");
     }
