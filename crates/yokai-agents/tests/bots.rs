@@ -229,7 +229,7 @@ fn belief_places_only_hints_it_believes_true_while_it_may_reveal() {
 }
 
 #[test]
-fn every_chosen_action_is_legal_over_100k_games() {
+fn every_chosen_action_is_legal_over_100k_games_and_self_play_scores_as_documented() {
     // play_episode checks every action; mixed tables exercise the belief bot's fallback
     // when partners do not follow its convention.
     let tables: [(&str, &[&str], u64); 7] = [
@@ -258,8 +258,29 @@ fn every_chosen_action_is_legal_over_100k_games() {
             .unwrap_or_else(|e| panic!("{name} {seats:?}: {e}"));
         assert_eq!(acc.games, games);
         total += games;
+        let m = acc.metrics().unwrap();
+        // The self-play tables' scores are documented (docs/bots.md, 5,000 games each, SE
+        // 0.03-0.04): these games, with other seeds, must agree within about 4 combined SE.
+        let documented = match (name, seats) {
+            ("9c-2p-perfect", ["belief", "belief"]) => Some(9.78),
+            ("9c-2p-perfect", ["greedy", "greedy"]) => Some(0.51),
+            ("9c-2p-perfect", ["random", "random"]) => Some(-3.99),
+            _ => None,
+        };
+        if let Some(r) = documented {
+            assert!(
+                (m.reward - r).abs() < 0.2,
+                "{name} {seats:?}: R {:.3} ± {:.3}, documented {r}",
+                m.reward,
+                m.reward_se
+            );
+        }
+        if seats.iter().all(|s| *s == "greedy") {
+            // Greedy never ends a game early (its rule 1, docs/bots.md).
+            assert_eq!(m.early_end, 0.0, "{name}: greedy ended a game early");
+        }
     }
-    assert!(total >= 100_000);
+    assert_eq!(total, 100_000);
 }
 
 #[test]
