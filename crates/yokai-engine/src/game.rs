@@ -12,7 +12,6 @@ use crate::types::{
     Card, CardSet, Colour, ColourSet, HintSlot, Seat, MAX_CARDS, MAX_COLOURS, MAX_HINTS,
     MAX_PLAYERS,
 };
-use std::fmt;
 
 /// Marks "no card" in hint-slot tables.
 const NO_CARD: u8 = u8::MAX;
@@ -652,11 +651,5 @@ impl Game {
             }
         }
         m
-    }
-}
-
-impl fmt::Debug for Game {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}", crate::render::render_truth(self))
     }
 }

@@ -15,6 +15,14 @@ enum Viewer {
     Seat(Seat),
 }
 
+/// A game prints as its board with every colour shown: what a failing test or a debugger
+/// should show. It lives here, beside the drawing, so that `game` does not depend on it.
+impl std::fmt::Debug for Game {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&render_truth(self))
+    }
+}
+
 /// The board with every colour shown (the ground truth).
 pub fn render_truth(game: &Game) -> String {
     render(game, Viewer::Truth)
