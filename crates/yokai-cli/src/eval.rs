@@ -153,10 +153,7 @@ pub fn expand(args: &[String]) -> anyhow::Result<Vec<String>> {
     let mut out = Vec::new();
     for arg in args {
         let path = Path::new(arg);
-        let is_run = |p: &Path| {
-            p.join(yokai_train::artifact::names::POLICY).exists()
-                || p.join(yokai_train::artifact::names::CHECKPOINT).exists()
-        };
+        use yokai_train::artifact::names::is_run;
         let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("");
         let (dir, pattern) = if name.contains(['*', '?', '[']) {
             let pattern = glob::Pattern::new(name)

@@ -15,6 +15,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 use std::sync::Arc;
 use yokai_engine::Config;
+use yokai_train::artifact::names::is_run;
 
 /// The seat of a person at the page.
 pub const HUMAN: &str = "human";
@@ -38,15 +39,12 @@ impl Catalog {
         seats: &[String],
         policies: Option<&Path>,
     ) -> anyhow::Result<Catalog> {
+        let given = configs
+            .iter()
+            .map(|c| Config::resolve(c).with_context(|| format!("--config {c}")))
+            .collect::<anyhow::Result<Vec<Config>>>()?;
         let mut offered: Vec<(String, Config)> = Vec::new();
-        for given in configs {
-            let config = Config::resolve(given).with_context(|| format!("--config {given}"))?;
-            let name = config.to_string();
-            if !offered.iter().any(|(n, _)| *n == name) {
-                offered.push((name, config));
-            }
-        }
-        for config in Config::presets() {
+        for config in given.into_iter().chain(Config::presets()) {
             let name = config.to_string();
             if !offered.iter().any(|(n, _)| *n == name) {
                 offered.push((name, config));
@@ -168,10 +166,6 @@ impl Catalog {
 /// holding a policy file or checkpoint) and every policy file outside one, three levels
 /// deep at most, in name order.
 fn policies_under(dir: &Path) -> anyhow::Result<Vec<(String, std::path::PathBuf)>> {
-    let is_run = |p: &Path| {
-        p.join(yokai_train::artifact::names::POLICY).is_file()
-            || p.join(yokai_train::artifact::names::CHECKPOINT).is_file()
-    };
     if !dir.is_dir() {
         bail!("--policies {}: not a directory", dir.display());
     }

@@ -18,3 +18,9 @@ pub fn seed_path(path: &Path, seed: u64) -> PathBuf {
         path.to_path_buf()
     }
 }
+
+/// Whether `dir` is a run directory: it holds a policy file or a checkpoint (what
+/// `TrainedPolicy::load` can seat).
+pub fn is_run(dir: &Path) -> bool {
+    dir.join(POLICY).is_file() || dir.join(CHECKPOINT).is_file()
+}
