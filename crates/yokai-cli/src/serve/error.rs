@@ -65,22 +65,33 @@ impl ApiError {
     }
 }
 
-impl IntoResponse for ApiError {
-    fn into_response(self) -> Response {
-        let status = self.status();
-        let message = match self {
+impl std::fmt::Display for ApiError {
+    /// The message (for the operator's terminal at start; the page gets it as JSON).
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
             ApiError::BadRequest(m)
             | ApiError::Forbidden(m)
             | ApiError::NotFound(m)
             | ApiError::TooLarge(m)
-            | ApiError::TooMany(m) => {
-                eprintln!("yokai serve: refused ({}): {m}", status.as_u16());
-                m
-            }
+            | ApiError::TooMany(m) => f.write_str(m),
+            ApiError::Internal(e) => write!(f, "{e:#}"),
+        }
+    }
+}
+
+impl IntoResponse for ApiError {
+    fn into_response(self) -> Response {
+        let status = self.status();
+        let message = match self {
             ApiError::Internal(e) => {
                 let n = INCIDENTS.fetch_add(1, Ordering::Relaxed);
                 eprintln!("yokai serve: error #{n}: {e:#}");
                 format!("the server could not serve this request (error #{n} in its log)")
+            }
+            refused => {
+                let m = refused.to_string();
+                eprintln!("yokai serve: refused ({}): {m}", status.as_u16());
+                m
             }
         };
         (status, Json(json!({ "error": message }))).into_response()

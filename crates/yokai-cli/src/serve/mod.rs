@@ -193,13 +193,17 @@ fn game_id(id: Result<UrlPath<String>, PathRejection>) -> ApiResult<String> {
 
 /// Run `work` off the async threads (it may let bots think, read a record, or wait for a
 /// game whose bots are thinking).
+async fn off_thread<T: Send + 'static>(
+    work: impl FnOnce() -> ApiResult<T> + Send + 'static,
+) -> ApiResult<T> {
+    tokio::task::spawn_blocking(work)
+        .await
+        .map_err(|e| ApiError::Internal(anyhow::anyhow!("a request's task failed: {e}")))?
+}
+
+/// [`off_thread`] for work whose answer is JSON.
 async fn blocking(work: impl FnOnce() -> ApiResult<Value> + Send + 'static) -> Api {
-    match tokio::task::spawn_blocking(work).await {
-        Ok(out) => out.map(Json),
-        Err(e) => Err(ApiError::Internal(anyhow::anyhow!(
-            "a request's task failed: {e}"
-        ))),
-    }
+    off_thread(work).await.map(Json)
 }
 
 async fn config_handler(State(tables): State<Arc<Tables>>) -> Json<Value> {
@@ -318,13 +322,12 @@ async fn replay_handler(
 ) -> Result<Response, ApiError> {
     let (id, q) = (game_id(id)?, query(q)?);
     let session = q.get("session").cloned().unwrap_or_default();
-    let text = tokio::task::spawn_blocking(move || {
+    let text = off_thread(move || {
         let table = tables.get(&session, &id)?;
         let text = lock(&table).session.replay().to_jsonl();
-        Ok::<_, ApiError>(text)
+        Ok(text)
     })
-    .await
-    .map_err(|e| ApiError::Internal(anyhow::anyhow!("a request's task failed: {e}")))??;
+    .await?;
     Ok((
         [(header::CONTENT_TYPE, "application/jsonl; charset=utf-8")],
         text,

@@ -109,7 +109,9 @@ pub fn report(records: &Path) -> anyhow::Result<String> {
     let mut groups: std::collections::BTreeMap<(String, String), MetricsAccumulator> =
         Default::default();
     let mut unfinished = 0;
-    std::fs::read_dir(records).with_context(|| format!("cannot list {}", records.display()))?;
+    if !records.is_dir() {
+        anyhow::bail!("cannot list {}: not a folder", records.display());
+    }
     for (name, dir) in session_dirs(records) {
         for (_, replay) in replays_in(&dir) {
             let replay = replay?;

@@ -27,7 +27,13 @@ struct Session {
 #[derive(Default)]
 struct Registry {
     sessions: HashMap<String, Session>,
-    open: usize,
+}
+
+impl Registry {
+    /// Unfinished games over all sessions (counted, not kept: one map walk per new game).
+    fn open(&self) -> usize {
+        self.sessions.values().map(|s| s.open.len()).sum()
+    }
 }
 
 pub struct Sessions {
@@ -63,7 +69,6 @@ impl Sessions {
             for (game, finished) in records::games_in(&dir) {
                 if !finished {
                     session.open.insert(game);
-                    registry.open += 1;
                 }
             }
         }
@@ -112,7 +117,7 @@ impl Sessions {
         self.check(session)?;
         let limits = &self.limits;
         let mut r = self.registry();
-        let total = r.open;
+        let total = r.open();
         let s = r.sessions.get_mut(session).expect("checked");
         if s.open.len() >= limits.max_open_per_session {
             let ids: Vec<&str> = s.open.iter().map(String::as_str).collect();
@@ -139,25 +144,19 @@ impl Sessions {
             )));
         }
         s.open.insert(game.to_string());
-        r.open += 1;
         Ok(())
     }
 
     /// Game `game` of `session` is finished (or was never made): it no longer counts.
     pub fn close(&self, session: &str, game: &str) {
-        let mut r = self.registry();
-        let removed = r
-            .sessions
-            .get_mut(session)
-            .is_some_and(|s| s.open.remove(game));
-        if removed {
-            r.open -= 1;
+        if let Some(s) = self.registry().sessions.get_mut(session) {
+            s.open.remove(game);
         }
     }
 
     /// Unfinished games over all sessions.
     pub fn open_games(&self) -> usize {
-        self.registry().open
+        self.registry().open()
     }
 }
 

@@ -109,7 +109,7 @@ impl Tables {
         let config = catalog.default_config();
         catalog
             .players(&config, &default_seats, 0)
-            .map_err(|e| anyhow::anyhow!("--seats: {e:?}"))?;
+            .map_err(|e| anyhow::anyhow!("--seats: {e}"))?;
         let seed = std::time::SystemTime::now()
             .duration_since(std::time::UNIX_EPOCH)
             .map_or(0, |d| d.as_nanos() as u64);
@@ -176,22 +176,29 @@ impl Tables {
             session,
             seed,
         });
-        let table = match made {
-            Ok(table) => table,
+        // A game that could not be made or recorded is not open.
+        let saved = made
+            .map_err(ApiError::from)
+            .and_then(|table| self.save(&table).map(|()| table));
+        match saved {
+            Ok(table) => Ok(self.keep(table)),
             Err(e) => {
                 self.sessions.close(session_id, &id);
-                return Err(e.into());
+                Err(e)
             }
-        };
-        self.save(&table)?;
+        }
+    }
+
+    /// Hold `table` in memory, unless it is finished (a table of bots only plays to its end
+    /// at once; a finished game read back is served once): its record holds it then.
+    fn keep(&self, table: Table) -> Shared {
+        let key = (table.session_id.clone(), table.id.clone());
         let finished = table.session.is_over();
         let shared = Arc::new(Mutex::new(table));
         if finished {
-            // A table of bots only plays to its end at once: its record holds it.
-            return Ok(shared);
+            return shared;
         }
-        let key = (session_id.to_string(), id);
-        Ok(self.cache().insert(key, shared, self.limits.max_in_memory))
+        self.cache().insert(key, shared, self.limits.max_in_memory)
     }
 
     /// The game `id` of `session_id`: in memory, else read back from its record (after a
@@ -222,22 +229,15 @@ impl Tables {
         let players = self
             .catalog
             .players(&config, &replay.header.seats, seed)
-            .map_err(|e| anyhow::anyhow!("the record {}: {e:?}", path.display()))?;
+            .map_err(|e| anyhow::anyhow!("the record {}: {e}", path.display()))?;
         let session = Session::resume(config, seed, players, &actions)
             .with_context(|| format!("the record {}", path.display()))?;
-        let table = Table {
+        Ok(self.keep(Table {
             id: id.to_string(),
             session_id: session_id.to_string(),
             session,
             seed,
-        };
-        let finished = table.session.is_over();
-        let shared = Arc::new(Mutex::new(table));
-        if finished {
-            // Finished games live in their records: served once, not kept.
-            return Ok(shared);
-        }
-        Ok(self.cache().insert(key, shared, self.limits.max_in_memory))
+        }))
     }
 
     /// Play `action` (an index) for `seat`, which must be the human to act; then the bots.
@@ -247,17 +247,12 @@ impl Tables {
         let action = config
             .decode(action)
             .map_err(|e| ApiError::BadRequest(e.to_string()))?;
-        match table.session.human_to_act() {
-            Some(s) if s == Seat(seat) => {}
-            Some(s) => {
-                return Err(ApiError::BadRequest(format!(
-                    "it is {s}'s turn, not seat {seat}'s"
-                )))
-            }
-            None if table.session.is_over() => {
-                return Err(ApiError::BadRequest("the game is over".into()))
-            }
-            None => return Err(ApiError::BadRequest("it is not a human's turn".into())),
+        // The session refuses a finished game or a bot's turn itself; it does not know
+        // which seat the page speaks for.
+        if let Some(s) = table.session.human_to_act().filter(|&s| s != Seat(seat)) {
+            return Err(ApiError::BadRequest(format!(
+                "it is {s}'s turn, not seat {seat}'s"
+            )));
         }
         let before = table.session.game().steps();
         if let Err(e) = table.session.choose(action) {
