@@ -52,10 +52,10 @@ fn documented() -> Vec<(String, String)> {
             "docs row `{row}`: one default per field"
         );
         for (k, (field, value)) in fields.iter().zip(values).enumerate() {
-            let name = match (k, section) {
-                (0, _) | (_, None) => field.to_string(),
-                (_, Some(_)) if field.contains('.') => field.to_string(),
-                (_, Some(s)) => format!("{s}.{field}"),
+            // Later fields of a row name their section once, in the first.
+            let name = match section {
+                Some(s) if k > 0 && !field.contains('.') => format!("{s}.{field}"),
+                _ => field.to_string(),
             };
             out.push((name, value.trim_matches('`').to_string()));
         }

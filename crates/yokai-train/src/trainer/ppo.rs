@@ -249,8 +249,8 @@ fn shard_step<E: Encoder, M: Recurrent>(
         };
         let adv = tensor1(s.adv, d);
         let delta = logp - tensor1(s.old_logp, d);
-        let diagnostics = ratio_diagnostics(delta.clone().detach(), c.clip);
-        let ratio = delta.exp();
+        let ratio = delta.clone().exp();
+        let diagnostics = ratio_diagnostics(delta.detach(), ratio.clone().detach(), c.clip);
         let clipped = ratio.clone().clamp(1.0 - c.clip, 1.0 + c.clip);
         let policy_loss = (ratio * adv.clone()).min_pair(clipped * adv).sum().neg() / n_all;
         (policy_loss, ent, end_bonus, diagnostics)
@@ -270,11 +270,11 @@ fn shard_step<E: Encoder, M: Recurrent>(
     }
 }
 
-/// Over rows with log-ratios `delta` = log π_new − log π_old: Σ |delta| (the replay
-/// check), Σ (r − 1 − log r) (approximate KL) and the count of ratios r outside
-/// [1 − clip, 1 + clip], read back in one transfer.
-fn ratio_diagnostics(delta: Tensor<1>, clip: f32) -> (f64, f64, f64) {
-    let ratio = delta.clone().exp();
+/// Over rows with log-ratios `delta` = log π_new − log π_old and ratios `ratio` = e^delta
+/// (the loss's own, detached): Σ |delta| (the replay check), Σ (r − 1 − log r)
+/// (approximate KL) and the count of ratios outside [1 − clip, 1 + clip], read back in one
+/// transfer.
+fn ratio_diagnostics(delta: Tensor<1>, ratio: Tensor<1>, clip: f32) -> (f64, f64, f64) {
     let kl = (ratio.clone() - 1.0 - delta.clone()).sum();
     let outside = (ratio - 1.0).abs().greater_elem(clip).float().sum();
     let sums = Tensor::cat(vec![delta.abs().sum(), kl, outside], 0);
@@ -395,7 +395,8 @@ mod tests {
     fn ratio_diagnostics_measure_kl_and_clipping_as_cleanrl_does() {
         let d = crate::device::default_device();
         let logr = [0.0f32, 0.1, -0.3, 0.25];
-        let (abs, kl, outside) = ratio_diagnostics(tensor1(logr.to_vec(), &d), 0.2);
+        let delta = tensor1(logr.to_vec(), &d);
+        let (abs, kl, outside) = ratio_diagnostics(delta.clone(), delta.exp(), 0.2);
         let want_kl: f64 = logr
             .iter()
             .map(|&x| (x as f64).exp() - 1.0 - x as f64)
