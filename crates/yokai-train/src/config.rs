@@ -872,7 +872,7 @@ mod tests {
             "x",
         );
         assert!(e.contains("obl.level") && e.contains("symmetries"), "{e}");
-        // Under OBL the END term reads the world drawn from the belief (trainer/rollout.rs).
+        // Under OBL the END term reads the world drawn from the belief (trainer/addons/end.rs).
         assert!(
             TrainConfig::from_toml_str("[ppo]\nend_lookahead = 0.5\n[obl]\nlevel = 1\n", "x")
                 .is_ok()

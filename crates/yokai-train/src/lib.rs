@@ -11,7 +11,8 @@
 //! - [`artifact`]: files on disk (container, header, run-directory names, SafeTensors);
 //! - [`network`]: the actor-critics;
 //! - [`policy`]: trained networks seated as players;
-//! - algorithms: [`obl`] (beliefs and fictitious continuations), then [`trainer`] (PPO);
+//! - algorithms: `actor` (the batched games as the seats see and play them), [`obl`]
+//!   (beliefs and fictitious continuations), then [`trainer`] (PPO);
 //! - [`probe`] and [`run`] (a run directory over the trainer).
 
 pub mod config;
@@ -28,6 +29,7 @@ pub mod artifact;
 pub mod network;
 pub mod policy;
 
+pub(crate) mod actor;
 pub mod obl;
 pub mod trainer;
 

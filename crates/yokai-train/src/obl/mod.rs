@@ -16,14 +16,26 @@
 //! - [`model`]: the belief model of the levels above 1 (recurrent encoder, autoregressive
 //!   decoder that keeps the counts and first-hand colours), and [`learn`]: its training on
 //!   the level below, measured against the exact belief of level 0.
+//! - `previous`: the level below a level ≥ 2 run, its belief, and the belief's memory of
+//!   the run's games.
+//! - `targets`: the value targets of a PPO rollout's step, from one continuation per game;
+//!   `partners` plays the partners in them (the level below or the learner), and `memory`
+//!   steps memories along the fictitious states.
 //!
-//! The trainer's use of them (the fictitious value targets in a PPO rollout, who plays the
-//! partners) is in `trainer/obl/`.
+//! Everything here takes its inputs as arguments (the run's games as an
+//! [`crate::actor::Actor`], the learner's network, the level below); the PPO trainer calls
+//! [`targets::targets`] once per rollout step and knows nothing else of OBL.
 
 pub mod belief;
 pub mod continuation;
 pub mod learn;
+pub(crate) mod memory;
 pub mod model;
+pub(crate) mod partners;
+pub(crate) mod previous;
+pub(crate) mod targets;
 
 pub use belief::{first_hand, first_hand_slots, sample_first_hand_consistent};
 pub use continuation::{continue_all, continue_fictitiously, Continuation};
+pub(crate) use previous::PreviousLevel;
+pub(crate) use targets::{targets, OblStep, StepInputs};

@@ -15,17 +15,18 @@ use serde::{Deserialize, Serialize};
 use std::path::Path;
 use yokai_engine::Config;
 
-/// The loop state a checkpoint saves beside the network and optimiser. Everything else is
-/// derived: environment steps from the update count, each game's episode index from the
-/// environment (filled in only when saving), and where episodes start from the games.
+/// The loop state a checkpoint saves beside the network and optimiser (the file's form: the
+/// trainer keeps these in its actor and, with OBL ≥ 2, its previous level). Everything else
+/// is derived: environment steps from the update count, and where episodes start from the
+/// games.
 #[derive(Clone, Debug, Serialize, Deserialize)]
-pub(super) struct LoopState {
+struct LoopState {
     pub update: u64,
     /// GRU state per row `[rows × H]`.
     pub hidden: Vec<f32>,
     /// Per game: the acting seats' actions so far in its current episode.
     pub history: Vec<Vec<u32>>,
-    /// Per game: its episode index (written to checkpoints; the environment keeps it live).
+    /// Per game: its episode index.
     #[serde(default)]
     pub episodes: Vec<u64>,
     /// OBL levels ≥ 2: the belief model's memory per row `[rows × H_belief]` (empty
@@ -41,7 +42,7 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             train_config: self.config.to_toml(),
             game: self.game.to_toml(),
             seed: self.seed,
-            update: self.state.update,
+            update: self.update,
             env_steps: self.env_steps(),
         }
     }
@@ -85,10 +86,12 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
                 (
                     "state".into(),
                     serde_json::to_vec(&LoopState {
-                        episodes: (0..self.config.ppo.num_envs)
-                            .map(|i| self.env.episodes(i))
-                            .collect(),
-                        ..self.state.clone()
+                        update: self.update,
+                        hidden: self.actor.memory.clone(),
+                        history: self.actor.history.clone(),
+                        episodes: self.actor.episodes(),
+                        belief_hidden: (self.previous.as_ref())
+                            .map_or(Vec::new(), |p| p.memory.clone()),
                     })
                     .expect("loop state serialises"),
                 ),
@@ -146,8 +149,9 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
                 }
             })?;
         let n = trainer.config.ppo.num_envs;
-        if state.hidden.len() != trainer.state.hidden.len()
-            || state.belief_hidden.len() != trainer.state.belief_hidden.len()
+        let belief_memory = trainer.previous.as_mut().map(|p| &mut p.memory);
+        if state.hidden.len() != trainer.actor.memory.len()
+            || state.belief_hidden.len() != belief_memory.as_ref().map_or(0, |m| m.len())
             || state.episodes.len() != n
             || state.history.len() != n
         {
@@ -156,15 +160,11 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
                 message: "loop state sizes do not match its config".into(),
             });
         }
-        for i in 0..n {
-            trainer
-                .env
-                .restore(i, state.episodes[i], &state.history[i])?;
+        if let Some(memory) = belief_memory {
+            *memory = state.belief_hidden;
         }
-        trainer.state = state;
-        for i in 0..n {
-            trainer.draw_symmetries(i);
-        }
+        trainer.update = state.update;
+        (trainer.actor).restore(&state.episodes, state.history, state.hidden)?;
         Ok(trainer)
     }
 }

@@ -7,6 +7,7 @@
 //! divide by the whole minibatch's counts ([`Totals`]), so the shards' losses, and their
 //! gradients, add up to the minibatch's: the same gradient step up to float rounding.
 
+use super::addons::{AddOns, ShardColumns};
 use super::rollout::Rollout;
 use crate::config::PpoConfig;
 use yokai_engine::{Action, Config};
@@ -31,14 +32,8 @@ pub(super) struct Shard {
     pub one_hot: Vec<f32>,
     pub old_logp: Vec<f32>,
     pub adv: Vec<f32>,
-    /// Per choosing row, with `entropy_normalized`: 1 / ln(its legal actions).
-    pub ent_weight: Vec<f32>,
-    /// Per choosing row, with `end_entropy_coef` or `end_lookahead`: 1 where END is legal.
-    pub end_legal: Vec<f32>,
-    /// Per choosing row, with `end_lookahead`: R_END(s) − V(s) (0 where END is illegal).
-    pub end_adv: Vec<f32>,
-    /// Per choosing row and card, with `belief_aux`: the card's true colour, one-hot.
-    pub truth: Vec<f32>,
+    /// The add-ons' rows, per choosing row.
+    pub addons: ShardColumns,
 }
 
 /// What every shard's losses divide by: the whole minibatch's counts.
@@ -59,7 +54,7 @@ pub(super) fn gather(
     ro: &Rollout,
     batch: &[usize],
     shards: usize,
-    c: &PpoConfig,
+    (c, addons): (&PpoConfig, &AddOns),
     game: &Config,
     (rows, l, hsz): (usize, usize, usize),
 ) -> (Vec<Shard>, Totals) {
@@ -67,7 +62,7 @@ pub(super) fn gather(
     let per = batch.len().div_ceil(shards);
     let mut out: Vec<Shard> = batch
         .chunks(per.max(1))
-        .map(|part| gather_shard(ro, part, c, game, (rows, l, hsz)))
+        .map(|part| gather_shard(ro, part, (c, addons), game, (rows, l, hsz)))
         .collect();
     let adv_count: usize = out.iter().map(|s| s.adv.len()).sum();
     if c.normalize_advantages && adv_count > 1 {
@@ -79,7 +74,7 @@ pub(super) fn gather(
             s.adv.iter_mut().for_each(|a| *a = (*a - mean) / sd);
         }
     }
-    let value_rows = if ro.value_weight.is_empty() {
+    let value_rows = if ro.value_weight.is_none() {
         (batch.len() * c.rollout_steps) as f32
     } else {
         out.iter()
@@ -92,7 +87,8 @@ pub(super) fn gather(
         choosing: adv_count,
         rows_with_end: out
             .iter()
-            .map(|s| s.end_legal.iter().sum::<f32>())
+            .flat_map(|s| s.addons.end.iter())
+            .map(|end| end.legal.iter().sum::<f32>())
             .sum::<f32>()
             .max(1.0),
     };
@@ -102,14 +98,12 @@ pub(super) fn gather(
 fn gather_shard(
     ro: &Rollout,
     part: &[usize],
-    c: &PpoConfig,
+    (c, addons): (&PpoConfig, &AddOns),
     game: &Config,
     (rows, l, hsz): (usize, usize, usize),
 ) -> Shard {
     let t_len = c.rollout_steps;
     let na = game.num_actions();
-    let end = game.encode(Action::End);
-    let (y, colours) = (game.cards(), game.colours());
     let n = part.len() * t_len;
     let mut s = Shard {
         sequences: part.len(),
@@ -117,10 +111,13 @@ fn gather_shard(
         keep: Vec::with_capacity(n),
         old_v: Vec::with_capacity(n),
         ret: Vec::with_capacity(n),
-        value_weight: Vec::with_capacity(ro.value_weight.len().min(n)),
         h0: Vec::with_capacity(part.len() * hsz),
         ..Shard::default()
     };
+    let cols = &mut s.addons;
+    cols.end = addons.end.as_ref().map(|_| Default::default());
+    cols.truth = addons.belief.as_ref().map(|_| Vec::new());
+    cols.entropy_weight = addons.entropy.as_ref().map(|_| Vec::new());
     for (j, &r) in part.iter().enumerate() {
         s.h0.extend_from_slice(&ro.h0[r * hsz..][..hsz]);
         for t in 0..t_len {
@@ -129,8 +126,8 @@ fn gather_shard(
             s.keep.push(ro.keeps[i]);
             s.old_v.push(ro.values[i]);
             s.ret.push(ro.returns[i]);
-            if !ro.value_weight.is_empty() {
-                s.value_weight.push(ro.value_weight[i]);
+            if let Some(weight) = &ro.value_weight {
+                s.value_weight.push(weight[i]);
             }
             if ro.legal[i] <= 1 {
                 continue;
@@ -142,24 +139,30 @@ fn gather_shard(
             s.one_hot[at + ro.actions[i]] = 1.0;
             s.old_logp.push(ro.logps[i]);
             s.adv.push(ro.adv[i]);
-            if c.entropy_normalized {
-                s.ent_weight.push(1.0 / (ro.legal[i] as f32).ln());
-            }
-            if c.end_entropy_coef > 0.0 || c.end_lookahead > 0.0 {
-                s.end_legal.push(ro.masks[i * na + end]);
-            }
-            if c.end_lookahead > 0.0 {
-                s.end_adv
-                    .push((ro.end_rewards[i] - ro.values[i]) * ro.masks[i * na + end]);
-            }
-            if c.belief_aux > 0.0 {
-                for &colour in &ro.truth[i * y..][..y] {
-                    let at = s.truth.len();
-                    s.truth.resize(at + colours, 0.0);
-                    s.truth[at + colour as usize] = 1.0;
-                }
-            }
+            gather_addons(ro, i, (addons, &mut s.addons), game);
         }
     }
     s
+}
+
+/// The add-ons' rows of choosing row `i` of the rollout.
+fn gather_addons(
+    ro: &Rollout,
+    i: usize,
+    (addons, out): (&AddOns, &mut ShardColumns),
+    game: &Config,
+) {
+    let na = game.num_actions();
+    if let (Some(unit), Some(rows)) = (&addons.entropy, &mut out.entropy_weight) {
+        unit.gather(ro.legal[i], rows);
+    }
+    if let (Some(unit), Some(rows)) = (&addons.end, &mut out.end) {
+        let end_mask = ro.masks[i * na + game.encode(Action::End)];
+        unit.gather(ro.columns.end.as_ref(), i, end_mask, ro.values[i], rows);
+    }
+    if let (Some(unit), Some(rows), Some(truth)) =
+        (&addons.belief, &mut out.truth, &ro.columns.truth)
+    {
+        unit.gather(truth, i, game.colours(), rows);
+    }
 }

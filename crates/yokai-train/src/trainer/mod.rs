@@ -11,28 +11,36 @@
 //! from the run seed through counter-based derivations (update, env, episode, seat), so a
 //! checkpoint needs no generator state, and a resumed run equals an uninterrupted one.
 //!
-//! The jobs live in one module each: `rollout` (acting and advantages), `ppo` (the PPO
-//! epochs and loss), `checkpoint` (files and exact resume); this module holds the run's
-//! state and the update that joins them.
+//! An update reads top to bottom in named phases ([`Trainer::update`]): the schedules, the
+//! rollout (the `crate::actor::Actor` plays every game with the network, into a
+//! [`rollout::Rollout`]), the value targets (GAE, or Off-Belief Learning's), and the
+//! learner (`learner`: PPO epochs over the rollout, the loss and the optimiser step). The
+//! add-ons a config switches on (END terms, belief loss, normalised entropy, clustering
+//! shaping) are units in `addons`, each owning its rollout column, its gathering and its
+//! loss term; `checkpoint` writes files and resumes exactly.
 
+mod addons;
 mod checkpoint;
+mod learner;
 mod minibatch;
-mod obl;
-mod ppo;
+#[cfg(test)]
+mod obl_tests;
 mod rollout;
 
+use crate::actor::Actor;
 use crate::config::TrainConfig;
 use crate::device::default_device;
 use crate::error::TrainError;
 use crate::network::{ActorCritic, Encoder, GruCell, Recurrent};
+use crate::obl::PreviousLevel;
+use addons::AddOns;
 use burn::optim::{AdamConfig, ModuleOptimizer};
 use burn::prelude::*;
-use checkpoint::LoopState;
 use rand_chacha::rand_core::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
-use yokai_engine::{derive_seed, Card, Config, EpisodeRecord, Metrics, RecordedGame, Symmetry};
-use yokai_vec::{Encoding, VecEnv, VecEnvOptions};
+use yokai_engine::{derive_seed, Config, EpisodeRecord, Metrics, Symmetry};
+use yokai_vec::{VecEnv, VecEnvOptions};
 
 /// One update's figures, for the metrics log and the progress bar.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -102,19 +110,13 @@ pub struct Trainer<E: Encoder, M: Recurrent = GruCell> {
     infer_device: Device,
     model: ActorCritic<E, M>,
     optim: ModuleOptimizer,
-    env: VecEnv<f32>,
-    state: LoopState,
-    /// The symmetries a seat may draw (identity only without Other-Play).
-    symmetries: Vec<Symmetry>,
-    /// Per row: the seat's symmetry this episode and its inverse.
-    row_sym: Vec<(Symmetry, Symmetry)>,
-    rows: usize,
-    obs_len: usize,
-    n_actions: usize,
-    /// The last finished game of env 0 (deal seed, actions), to save as a replay.
-    last_game: Option<(u64, Vec<u32>)>,
+    /// Updates done.
+    update: u64,
+    /// The games, as the seats see and play them, and every seat's memory.
+    actor: Actor,
+    addons: AddOns,
     /// Off-Belief Learning levels ≥ 2: the level below and the belief trained on it.
-    previous: Option<obl::PreviousLevel>,
+    previous: Option<PreviousLevel>,
 }
 
 /// The seed of a run's batch of games.
@@ -162,56 +164,37 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         let device = infer_device.clone().autodiff();
         let model = ActorCritic::<E, M>::new(&config, &game, derive_seed(seed, 0xC0FFEE), &device);
         let n = config.ppo.num_envs;
-        let p = game.players();
         let mut options = VecEnvOptions::new(n, env_seed(seed));
         options.encoding = E::encoding();
         options.threads = (config.run.threads > 0).then_some(config.run.threads);
         let env = VecEnv::<f32>::new(game, options)?;
-        let obs_len: usize = E::encoding().shape(&game).iter().product();
         let s = config.algorithm.symmetries;
         let symmetries = Symmetry::enumerate(&game, s.colours(), s.rotations(), false);
-        let hidden = model.hidden_size();
-        let optim = optimizer(&config);
+        let actor = Actor::new(env, seed, env_seed(seed), symmetries, model.hidden_size());
         let previous = if config.obl.level >= 2 {
-            Some(obl::PreviousLevel::load(
+            Some(PreviousLevel::load(
                 &config,
                 &game,
                 seed,
+                actor.rows(),
                 &infer_device,
             )?)
         } else {
             None
         };
-        let mut trainer = Trainer {
-            state: LoopState {
-                update: 0,
-                hidden: vec![0.0; n * p * hidden],
-                history: vec![Vec::new(); n],
-                episodes: Vec::new(),
-                belief_hidden: previous
-                    .as_ref()
-                    .map_or(Vec::new(), |b| vec![0.0; n * p * b.belief.hidden_size()]),
-            },
-            row_sym: vec![(Symmetry::identity(&game), Symmetry::identity(&game)); n * p],
+        Ok(Trainer {
+            optim: optimizer(&config),
+            addons: AddOns::from_config(&config.ppo),
             config,
             game,
             seed,
             device,
             infer_device,
             model,
-            optim,
-            env,
-            symmetries,
-            rows: n * p,
-            obs_len,
-            n_actions: game.num_actions(),
-            last_game: None,
+            update: 0,
+            actor,
             previous,
-        };
-        for i in 0..n {
-            trainer.draw_symmetries(i);
-        }
-        Ok(trainer)
+        })
     }
 
     pub fn config(&self) -> &TrainConfig {
@@ -226,10 +209,10 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
     }
 
     pub fn update_count(&self) -> u64 {
-        self.state.update
+        self.update
     }
     pub fn env_steps(&self) -> u64 {
-        self.state.update * (self.config.ppo.num_envs * self.config.ppo.rollout_steps) as u64
+        self.update * (self.config.ppo.num_envs * self.config.ppo.rollout_steps) as u64
     }
     /// Change the run's budget (e.g. to extend a resumed run). Annealing follows the new
     /// total from the next update on.
@@ -237,144 +220,76 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         self.config.ppo.total_steps = total_steps;
     }
     pub fn is_done(&self) -> bool {
-        self.state.update >= self.config.updates()
+        self.update >= self.config.updates()
     }
     pub fn model(&self) -> &ActorCritic<E, M> {
         &self.model
     }
     /// The batched games (true frame, before any symmetry).
     pub fn env(&self) -> &VecEnv<f32> {
-        &self.env
+        self.actor.env()
     }
     /// The symmetry row `row` (game `row / P`, seat `row % P`) sees its game through.
     pub fn row_symmetry(&self, row: usize) -> Symmetry {
-        self.row_sym[row].0
+        self.actor.symmetry(row)
     }
     /// Every row's observation `[rows × L]` and legal mask `[rows × N_a]` as the network
     /// receives them (Other-Play symmetries applied).
     pub fn views(&self) -> (Vec<f32>, Vec<f32>) {
-        let mut obs = vec![0f32; self.rows * self.obs_len];
-        let mut masks = vec![0f32; self.rows * self.n_actions];
-        self.view(&mut obs, &mut masks);
+        let a = &self.actor;
+        let mut obs = vec![0f32; a.rows() * a.obs_len()];
+        let mut masks = vec![0f32; a.rows() * a.n_actions()];
+        a.view(&mut obs, &mut masks);
         (obs, masks)
     }
-
-    /// Other-Play: each seat of game `env` draws its own symmetry for the game's current
-    /// episode, a function of (seed, env, episode, seat).
-    fn draw_symmetries(&mut self, env: usize) {
-        let p = self.game.players();
-        let k = self.symmetries.len() as u64;
-        let episode_stream = derive_seed(
-            derive_seed(derive_seed(self.seed, 0x0B), env as u64),
-            self.env.episodes(env),
-        );
-        for s in 0..p {
-            let pick = derive_seed(episode_stream, s as u64) % k;
-            let sym = self.symmetries[pick as usize];
-            self.row_sym[env * p + s] = (sym, sym.inverse());
-        }
-    }
-
     /// The true colour of every card of `row`'s game, named as the row's seat sees colours
     /// (its symmetry's relabelling applied): the target of `ppo.belief_aux`.
     pub fn view_truth(&self, row: usize, out: &mut [u8]) {
-        let game = self.env.game(row / self.game.players());
-        let sym = self.row_sym[row].0;
-        for (k, colour) in out.iter_mut().enumerate() {
-            *colour = sym.map_colour(game.colour_of(Card(k as u8))).0;
-        }
+        self.actor.view_truth(row, out)
     }
-
-    /// Every row's observation and legal mask as its seat sees them (its symmetry applied).
-    fn view(&self, obs: &mut [f32], masks: &mut [f32]) {
-        let (l, na) = (self.obs_len, self.n_actions);
-        let src_obs = self.env.observations();
-        let src_masks = self.env.legal_masks();
-        let mut mask_f = vec![0f32; na];
-        for r in 0..self.rows {
-            let (sym, _) = &self.row_sym[r];
-            let o_in = &src_obs[r * l..][..l];
-            let o_out = &mut obs[r * l..][..l];
-            for (m, &b) in mask_f.iter_mut().zip(&src_masks[r * na..][..na]) {
-                *m = b as f32;
-            }
-            let m_out = &mut masks[r * na..][..na];
-            if sym.is_identity() {
-                o_out.copy_from_slice(o_in);
-                m_out.copy_from_slice(&mask_f);
-                continue;
-            }
-            match E::encoding() {
-                Encoding::Image(part, layout) => {
-                    sym.apply_image_in(&self.game, part, layout, o_in, o_out)
-                }
-                Encoding::Graph(part) => sym.apply_nodes(&self.game, part, o_in, o_out),
-                Encoding::None => Ok(()),
-            }
-            .expect("buffers sized from the same config");
-            sym.apply_mask(&self.game, &mask_f, m_out)
-                .expect("buffers sized from the same config");
-        }
-    }
-
-    fn env_seed(&self) -> u64 {
-        env_seed(self.seed)
-    }
-
-    /// Per row: 0 where the row's next step starts an episode (its game has no step yet),
-    /// which zeroes that row's recurrent state, else 1.
-    fn keeps(&self) -> Vec<f32> {
-        let p = self.game.players();
-        (0..self.rows)
-            .map(|r| (self.env.game(r / p).steps() > 0) as u8 as f32)
-            .collect()
-    }
-
     /// The last game of env 0 that finished, as played in training (deal and actions).
     pub fn last_finished_game(&self) -> Option<EpisodeRecord> {
-        let (seed, actions) = self.last_game.as_ref()?;
-        let mut game = RecordedGame::new(self.game, *seed);
-        for &a in actions {
-            let action = self.game.decode(a as usize).expect("an index of this game");
-            game.apply(action)
-                .expect("actions recorded from the environment are legal");
-        }
-        Some(game.into_record())
+        self.actor.last_finished_game()
     }
-
     /// Map a row's chosen action from its seat's view back to the true game.
     pub fn to_true_action(&self, row: usize, view_action: usize) -> usize {
-        self.row_sym[row]
-            .1
-            .apply_action_index(&self.game, view_action)
+        self.actor.to_true_action(row, view_action)
     }
 
-    fn progress(&self) -> f64 {
-        self.state.update as f64 / self.config.updates() as f64
-    }
-
-    /// One PPO update: a rollout of `rollout_steps` steps in every game, then `epochs`
-    /// passes over it in `minibatches` sets of whole sequences.
-    pub fn update(&mut self) -> Result<UpdateStats, TrainError> {
-        let start = std::time::Instant::now();
-        let c = self.config.ppo.clone();
-        let progress = self.progress();
+    /// The learning rate and the shaping weight at this point of the run: the rate falls
+    /// linearly to 0 with `anneal_lr`, the shaping over the first `shaping_fraction`.
+    fn schedules(&self) -> (f64, f64) {
+        let c = &self.config.ppo;
+        let progress = self.update as f64 / self.config.updates() as f64;
         let lr = if c.anneal_lr {
             c.lr * (1.0 - progress)
         } else {
             c.lr
         };
         let shaping = c.shaping as f64 * (1.0 - progress / c.shaping_fraction as f64).max(0.0);
+        (lr, shaping)
+    }
+
+    /// One PPO update: a rollout of `rollout_steps` steps in every game, then `epochs`
+    /// passes over it in `minibatches` sets of whole sequences.
+    pub fn update(&mut self) -> Result<UpdateStats, TrainError> {
+        let start = std::time::Instant::now();
+        // 1. Schedules.
+        let (lr, shaping) = self.schedules();
         // One generator per update serves the action draws, then the minibatch order.
-        let mut rng = ChaCha8Rng::seed_from_u64(derive_seed(self.seed, self.state.update));
+        let mut rng = ChaCha8Rng::seed_from_u64(derive_seed(self.seed, self.update));
+        // 2. Rollout, with its value targets (GAE, or OBL's).
         let rollout = self.collect(shaping, &mut rng)?;
         let rollout_seconds = start.elapsed().as_secs_f64();
+        // 3. Learning: PPO epochs over the rollout.
         let losses = self.learn_epochs(&rollout, lr, &mut rng);
-        self.state.update += 1;
+        self.update += 1;
+        // 4. Report.
         let secs = start.elapsed().as_secs_f64();
+        let c = &self.config.ppo;
         let belief = self.previous.as_ref().map(|p| p.belief_stats());
         Ok(UpdateStats {
-            update: self.state.update,
+            update: self.update,
             env_steps: self.env_steps(),
             sps: (c.num_envs * c.rollout_steps) as f64 / secs.max(1e-9),
             games: rollout.games.metrics(),
@@ -387,10 +302,10 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             approx_kl: losses.approx_kl,
             clip_fraction: losses.clip_fraction,
             grad_norm: losses.grad_norm,
-            explained_variance: ppo::explained_variance(
+            explained_variance: learner::explained_variance(
                 &rollout.values,
                 &rollout.returns,
-                &rollout.value_weight,
+                rollout.value_weight.as_deref().unwrap_or(&[]),
             ),
             cluster_reward: rollout.cluster_reward,
             belief_loss: losses.belief.map(|b| b.0),

@@ -1,16 +1,19 @@
-//! Acting: one rollout of `rollout_steps` steps in every game, with what learning needs
-//! (observations and masks as each seat saw them, actions, log-probabilities, values,
-//! episode starts) and the GAE advantages and returns.
+//! The rollout: the actor plays `rollout_steps` steps of every game with the current
+//! network, recording what learning needs (observations and masks as each seat saw them,
+//! actions, log-probabilities, values, episode starts, the add-ons' columns), then the value
+//! targets: GAE over the real rewards, or with Off-Belief Learning the targets of the
+//! fictitious continuations computed at each step.
 
+use super::addons::Columns;
 use super::Trainer;
-use crate::distribution::sample_row;
+use crate::distribution::{sample_row, unit_draw};
 use crate::error::TrainError;
 use crate::gae::gae;
-use crate::network::{shards_on, Encoder, Recurrent};
+use crate::network::{shards_on, ActorCritic, Encoder, Recurrent};
+use crate::obl::{self, OblStep, StepInputs};
 use burn::module::Module;
 use rand_chacha::ChaCha8Rng;
-use yokai_engine::{Action, MetricsAccumulator};
-use yokai_vec::episode_seed;
+use yokai_engine::{Action, Game, MetricsAccumulator};
 
 /// One rollout, time-major (`[T, rows, …]`), as learning reads it.
 pub(super) struct Rollout {
@@ -33,17 +36,43 @@ pub(super) struct Rollout {
     pub entropy: f64,
     /// Net change in clustered colours paid by the clustering shaping, unweighted.
     pub cluster_reward: f64,
-    /// With `end_lookahead`: per row and step, what END would pay in the row's game at that
-    /// step (`[T × rows]`; meaningful where the row's mask allows END). Empty when off.
-    pub end_rewards: Vec<f32>,
-    /// With `belief_aux`: per step, row and card, the card's true colour as the row's seat
-    /// sees colours (its symmetry's relabelling applied), `[T × rows × Y]`, filled for the
-    /// acting seats' rows only. Empty when off.
-    pub truth: Vec<u8>,
+    /// The add-ons' columns.
+    pub columns: Columns,
     /// With Off-Belief Learning: 1 on the rows whose value target is an OBL target (the
-    /// acting seats'), 0 on the others, whose value loss is off (`[T × rows]`). Empty
+    /// acting seats'), 0 on the others, whose value loss is off (`[T × rows]`). `None`
     /// otherwise: every row learns its value.
-    pub value_weight: Vec<f32>,
+    pub value_weight: Option<Vec<f32>>,
+}
+
+/// What the rewards phase of a rollout keeps for the value targets.
+struct Rewards {
+    rewards: Vec<f32>,
+    dones: Vec<f32>,
+    /// Off-Belief Learning: per step and row, the target of an acting row's action.
+    obl: Option<Vec<Option<f32>>>,
+}
+
+impl Rollout {
+    fn new(t_len: usize, rows: usize, (l, na): (usize, usize), h0: Vec<f32>) -> Rollout {
+        let n = t_len * rows;
+        Rollout {
+            obs: vec![0.0; n * l],
+            masks: vec![0.0; n * na],
+            actions: vec![0; n],
+            logps: vec![0.0; n],
+            values: vec![0.0; n],
+            keeps: vec![0.0; n],
+            legal: vec![0; n],
+            adv: Vec::new(),
+            returns: Vec::new(),
+            h0,
+            games: MetricsAccumulator::default(),
+            entropy: 0.0,
+            cluster_reward: 0.0,
+            columns: Columns::default(),
+            value_weight: None,
+        }
+    }
 }
 
 impl<E: Encoder, M: Recurrent> Trainer<E, M> {
@@ -54,225 +83,225 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         shaping: f64,
         rng: &mut ChaCha8Rng,
     ) -> Result<Rollout, TrainError> {
-        let c = self.config.ppo.clone();
-        let (rows, l, na) = (self.rows, self.obs_len, self.n_actions);
-        let t_len = c.rollout_steps;
-        let p = self.game.players();
-        let n = c.num_envs;
-        let mut obs = vec![0f32; t_len * rows * l];
-        let mut masks = vec![0f32; t_len * rows * na];
-        let mut actions = vec![0usize; t_len * rows];
-        let mut logps = vec![0f32; t_len * rows];
-        let mut values = vec![0f32; t_len * rows];
-        let mut rewards = vec![0f32; t_len * rows];
-        let mut dones = vec![0f32; t_len * rows];
-        let mut keeps = vec![0f32; t_len * rows];
-        let mut legal = vec![0u32; t_len * rows];
-        // Clustering shaping: per game, the clustered colours of its current state, counted
-        // once per step (after it) and carried to the next step as its "before".
-        let cluster_weight = shaping as f32 * c.cluster_shaping;
-        let mut clustered: Vec<f32> = if cluster_weight > 0.0 {
-            (0..n)
-                .map(|i| self.env.game(i).clustered_colours() as f32)
-                .collect()
-        } else {
-            Vec::new()
+        let t_len = self.config.ppo.rollout_steps;
+        let (rows, na) = (self.actor.rows(), self.actor.n_actions());
+        let dims = (self.actor.obs_len(), na);
+        let mut ro = Rollout::new(t_len, rows, dims, self.actor.memory.clone());
+        if let Some(end) = &self.addons.end {
+            ro.columns.end = end.column(t_len, rows);
+        }
+        if let Some(belief) = &self.addons.belief {
+            ro.columns.truth = Some(belief.column(t_len, rows, self.game.cards()));
+        }
+        let mut kept = Rewards {
+            rewards: vec![0.0; t_len * rows],
+            dones: vec![0.0; t_len * rows],
+            obl: (self.config.obl.level > 0).then(|| vec![None; t_len * rows]),
         };
-        let mut cluster_reward = 0f64;
-        let lookahead = c.end_lookahead > 0.0;
-        let end = self.game.encode(Action::End);
-        let mut end_rewards = if lookahead {
-            vec![0f32; t_len * rows]
-        } else {
-            Vec::new()
-        };
-        let y = self.game.cards();
-        let mut truth = if c.belief_aux > 0.0 {
-            vec![0u8; t_len * rows * y]
-        } else {
-            Vec::new()
-        };
-        // Off-Belief Learning: the acting rows' value targets from fictitious continuations.
-        let obl = self.config.obl.level > 0;
-        let mut obl_targets: Vec<Option<f32>> = if obl {
-            vec![None; t_len * rows]
-        } else {
-            Vec::new()
-        };
-        let h0 = self.state.hidden.clone();
+        let mut cluster =
+            (self.addons.cluster.as_ref()).and_then(|unit| unit.start(shaping, &self.actor));
         let net = self.model.valid();
-        let dev = self.infer_device.clone();
-        let shards = shards_on(&dev);
-        let mut joint = vec![0u32; rows];
-        let no_choice = vec![0f32; na];
-        let mut games = MetricsAccumulator::default();
-        let (mut ent_sum, mut ent_rows) = (0f64, 0u64);
+        let end = self.game.encode(Action::End);
+        let mut entropy = (0f64, 0u64);
         for t in 0..t_len {
-            let (o, m) = (
-                &mut obs[t * rows * l..][..rows * l],
-                &mut masks[t * rows * na..][..rows * na],
-            );
-            self.view(o, m);
-            let keep = self.keeps();
-            keeps[t * rows..][..rows].copy_from_slice(&keep);
-            self.step_belief_memory(o, &keep);
-            for r in 0..rows {
-                legal[t * rows + r] = m[r * na..][..na].iter().filter(|&&x| x > 0.5).count() as u32;
-            }
-            // The actor runs on the rows that choose; `chosen` holds their logits in row
-            // order. A row with one legal action (a waiting seat's NOOP, a forced move) is
-            // drawn from zero logits: its only action has log-prob 0 and entropy 0 whatever
-            // its logit, so the draws below are unchanged.
-            let choosing: Vec<usize> = (0..rows).filter(|&r| legal[t * rows + r] > 1).collect();
-            let acted = net.act(o, &self.state.hidden, &keep, &choosing, &dev, shards);
-            values[t * rows..][..rows].copy_from_slice(&acted.values);
-            self.state.hidden = acted.states;
-            let chosen = acted.logits;
-            let mut next_chosen = chosen.chunks_exact(na);
-            let acting = self.env.acting_seats().to_vec();
-            // Learning reads the belief targets of the rows that choose, which are the
-            // acting seats' rows: the waiting seats' are left at 0.
-            if !truth.is_empty() {
-                for (i, &seat) in acting.iter().enumerate() {
-                    let r = i * p + seat as usize;
-                    self.view_truth(r, &mut truth[(t * rows + r) * y..][..y]);
+            // Observe and act: every seat reads its view, the choosing seats draw.
+            let (joint, acting) = self.act(&net, &mut ro, t, rng, &mut entropy);
+            // Off-Belief Learning: the acting rows' targets from fictitious continuations.
+            let worlds = match &mut kept.obl {
+                Some(targets) => {
+                    let step = self.obl_step(&net, t, &joint, shaping as f32)?;
+                    for (r, target) in step.targets {
+                        targets[t * rows + r] = Some(target);
+                    }
+                    step.worlds
                 }
-            }
-            for r in 0..rows {
-                let u = crate::distribution::unit_draw(rng);
-                let logits = if legal[t * rows + r] > 1 {
-                    next_chosen
-                        .next()
-                        .expect("one row of logits per choosing row")
-                } else {
-                    &no_choice[..]
-                };
-                let (a, lp, h) = sample_row(logits, &m[r * na..][..na], u, false);
-                actions[t * rows + r] = a;
-                logps[t * rows + r] = lp;
-                if acting[r / p] as usize == r % p {
-                    ent_sum += h as f64;
-                    ent_rows += 1;
-                }
-                joint[r] = self.to_true_action(r, a) as u32;
-            }
-            let worlds = if obl {
-                let step = self.obl_targets(&net, t, &joint, shaping as f32)?;
-                for (r, target) in step.targets {
-                    obl_targets[t * rows + r] = Some(target);
-                }
-                step.worlds
-            } else {
-                Vec::new()
+                None => Vec::new(),
             };
-            if lookahead {
-                for (i, &seat) in acting.iter().enumerate() {
-                    let r = i * p + seat as usize;
-                    if m[r * na + end] > 0.5 {
-                        // Under OBL, what END pays in the world drawn from the seat's belief
-                        // (the fictitious game its target comes from), never the true one.
-                        let game = worlds.get(i).unwrap_or_else(|| self.env.game(i));
-                        end_rewards[t * rows + r] = game.end_reward() as f32;
-                    }
-                }
+            if let Some(column) = &mut ro.columns.end {
+                // Under OBL, what END pays in the world drawn from the seat's belief (the
+                // fictitious game its target comes from), never the true one.
+                let masks = &ro.masks[t * rows * na..][..rows * na];
+                let actor = &self.actor;
+                let game = |i: usize| -> &Game { worlds.get(i).unwrap_or_else(|| actor.game(i)) };
+                column.record(t, &acting, (masks, na, end), game);
             }
-            self.env.step_joint(&joint)?;
-            for i in 0..n {
-                let mut reward = self.env.rewards()[i] + shaping as f32 * self.env.shaping()[i];
-                let done = self.env.dones()[i] == 1;
-                if cluster_weight > 0.0 {
-                    let after = self.env.game(i).clustered_colours() as f32;
-                    // A finished game has been dealt again: its last step keeps the game's
-                    // reward, which counts the clustered colours itself.
-                    if !done {
-                        reward += cluster_weight * (after - clustered[i]);
-                        cluster_reward += (after - clustered[i]) as f64;
-                    }
-                    clustered[i] = after;
-                }
-                for s in 0..p {
-                    rewards[t * rows + i * p + s] = reward;
-                    dones[t * rows + i * p + s] = done as u8 as f32;
-                }
-                if done {
-                    if let Some(o) = self.env.outcomes()[i] {
-                        games.add(&o);
-                    }
-                    if i == 0 {
-                        let mut actions = std::mem::take(&mut self.state.history[0]);
-                        actions.push(joint[acting[0] as usize]);
-                        // The environment has already moved on to the next episode.
-                        let finished = self.env.episodes(0) - 1;
-                        let seed = episode_seed(self.env_seed(), 0, finished);
-                        self.last_game = Some((seed, actions));
-                    }
-                    self.state.history[i].clear();
-                    self.draw_symmetries(i);
-                } else {
-                    let seat = acting[i] as usize;
-                    self.state.history[i].push(joint[i * p + seat]);
+            // Step the games, then read what the step paid.
+            self.actor.step(&joint)?;
+            self.tally_rewards(t, shaping, &mut kept, cluster.as_mut(), &mut ro.games);
+        }
+        ro.entropy = if entropy.1 > 0 {
+            entropy.0 / entropy.1 as f64
+        } else {
+            0.0
+        };
+        ro.cluster_reward = cluster.map_or(0.0, |c| c.paid);
+        self.value_targets(&net, &mut ro, kept);
+        Ok(ro)
+    }
+
+    /// Step `t` of the rollout's acting: every row reads its view of its game (and with
+    /// OBL ≥ 2 the belief's memory too), the network runs on the rows that choose, and every
+    /// row draws its action (a waiting seat its NOOP). Returns the rows' true-frame actions
+    /// and each game's acting seat; adds the acting seats' entropies to `entropy`.
+    fn act(
+        &mut self,
+        net: &ActorCritic<E, M>,
+        ro: &mut Rollout,
+        t: usize,
+        rng: &mut ChaCha8Rng,
+        entropy: &mut (f64, u64),
+    ) -> (Vec<u32>, Vec<u8>) {
+        let (rows, l, na) = (
+            self.actor.rows(),
+            self.actor.obs_len(),
+            self.actor.n_actions(),
+        );
+        let p = self.game.players();
+        let (o, m) = (
+            &mut ro.obs[t * rows * l..][..rows * l],
+            &mut ro.masks[t * rows * na..][..rows * na],
+        );
+        self.actor.view(o, m);
+        let keep = self.actor.keeps();
+        ro.keeps[t * rows..][..rows].copy_from_slice(&keep);
+        if let Some(previous) = &mut self.previous {
+            let (encoding, dev) = (E::encoding(), &self.infer_device);
+            previous.observe(&self.actor, o, encoding, &keep, dev);
+        }
+        let legal = &mut ro.legal[t * rows..][..rows];
+        for (r, count) in legal.iter_mut().enumerate() {
+            *count = m[r * na..][..na].iter().filter(|&&x| x > 0.5).count() as u32;
+        }
+        // The actor runs on the rows that choose; `chosen` holds their logits in row
+        // order. A row with one legal action (a waiting seat's NOOP, a forced move) is
+        // drawn from zero logits: its only action has log-prob 0 and entropy 0 whatever
+        // its logit, so the draws below are unchanged.
+        let choosing: Vec<usize> = (0..rows).filter(|&r| legal[r] > 1).collect();
+        let dev = &self.infer_device;
+        let acted = net.act(o, &self.actor.memory, &keep, &choosing, dev, shards_on(dev));
+        ro.values[t * rows..][..rows].copy_from_slice(&acted.values);
+        self.actor.memory = acted.states;
+        let acting = self.actor.env().acting_seats().to_vec();
+        // Learning reads the belief targets of the rows that choose, which are the acting
+        // seats' rows.
+        if let Some(truth) = &mut ro.columns.truth {
+            truth.record(t, &acting, &self.actor);
+        }
+        let mut next_chosen = acted.logits.chunks_exact(na);
+        let no_choice = vec![0f32; na];
+        let mut joint = vec![0u32; rows];
+        for r in 0..rows {
+            let u = unit_draw(rng);
+            let logits = if legal[r] > 1 {
+                next_chosen
+                    .next()
+                    .expect("one row of logits per choosing row")
+            } else {
+                &no_choice[..]
+            };
+            let (a, lp, h) = sample_row(logits, &m[r * na..][..na], u, false);
+            ro.actions[t * rows + r] = a;
+            ro.logps[t * rows + r] = lp;
+            if acting[r / p] as usize == r % p {
+                entropy.0 += h as f64;
+                entropy.1 += 1;
+            }
+            joint[r] = self.actor.to_true_action(r, a) as u32;
+        }
+        (joint, acting)
+    }
+
+    /// OBL's targets of rollout step `t`, given the rows' true-frame actions `joint`.
+    pub(super) fn obl_step(
+        &self,
+        net: &ActorCritic<E, M>,
+        t: usize,
+        joint: &[u32],
+        shaping: f32,
+    ) -> Result<OblStep, TrainError> {
+        obl::targets(StepInputs {
+            config: &self.config,
+            seed: self.seed,
+            step: self.update * self.config.ppo.rollout_steps as u64 + t as u64,
+            actor: &self.actor,
+            net,
+            device: &self.infer_device,
+            previous: self.previous.as_ref(),
+            joint,
+            shaping,
+        })
+    }
+
+    /// After the games stepped at `t`: every row's reward (the game's, the annealed
+    /// shaping, the clustering add-on's) and done flag, and the metrics of the games that
+    /// ended.
+    fn tally_rewards(
+        &self,
+        t: usize,
+        shaping: f64,
+        kept: &mut Rewards,
+        mut cluster: Option<&mut super::addons::cluster::ClusterTally>,
+        games: &mut MetricsAccumulator,
+    ) {
+        let env = self.actor.env();
+        let (rows, p) = (self.actor.rows(), self.game.players());
+        for i in 0..env.num_envs() {
+            let mut reward = env.rewards()[i] + shaping as f32 * env.shaping()[i];
+            let done = env.dones()[i] == 1;
+            if let Some(extra) = cluster
+                .as_mut()
+                .and_then(|c| c.reward(&self.actor, i, done))
+            {
+                reward += extra;
+            }
+            for s in 0..p {
+                kept.rewards[t * rows + i * p + s] = reward;
+                kept.dones[t * rows + i * p + s] = done as u8 as f32;
+            }
+            if done {
+                if let Some(o) = env.outcomes()[i] {
+                    games.add(&o);
                 }
             }
         }
-        let (adv, returns, value_weight) = if obl {
-            // The OBL target is the return of the acting rows; the others learn nothing.
-            let target = |i: usize| obl_targets[i].unwrap_or(values[i]);
-            let adv = (0..t_len * rows).map(|i| target(i) - values[i]).collect();
-            let returns = (0..t_len * rows).map(target).collect();
-            let weight = obl_targets
-                .iter()
-                .map(|x| x.is_some() as u8 as f32)
-                .collect();
-            (adv, returns, weight)
-        } else {
-            // Values of the observations after the last step bootstrap the returns; the
-            // state reached here is not kept, since the next rollout starts from these
-            // observations.
-            let mut last_obs = vec![0f32; rows * l];
-            let mut last_masks = vec![0f32; rows * na];
-            self.view(&mut last_obs, &mut last_masks);
-            let last_values = net
-                .act(
-                    &last_obs,
-                    &self.state.hidden,
-                    &self.keeps(),
-                    &[],
-                    &dev,
-                    shards,
-                )
-                .values;
-            let (adv, returns) = gae(
-                &rewards,
-                &values,
-                &dones,
-                &last_values,
-                c.gamma,
-                c.gae_lambda,
-            );
-            (adv, returns, Vec::new())
-        };
+    }
 
-        Ok(Rollout {
-            obs,
-            masks,
-            actions,
-            logps,
-            values,
-            keeps,
-            legal,
-            adv,
-            returns,
-            h0,
-            games,
-            entropy: if ent_rows > 0 {
-                ent_sum / ent_rows as f64
-            } else {
-                0.0
-            },
-            cluster_reward,
-            end_rewards,
-            truth,
-            value_weight,
-        })
+    /// The rollout's advantages and value targets: with OBL the continuations' targets on
+    /// the acting rows (the others learn nothing); else GAE, bootstrapped from the values of
+    /// the observations after the last step.
+    fn value_targets(&self, net: &ActorCritic<E, M>, ro: &mut Rollout, kept: Rewards) {
+        if let Some(obl) = kept.obl {
+            let target = |i: usize| obl[i].unwrap_or(ro.values[i]);
+            let all = 0..ro.values.len();
+            ro.adv = all.clone().map(|i| target(i) - ro.values[i]).collect();
+            ro.returns = all.map(target).collect();
+            ro.value_weight = Some(obl.iter().map(|x| x.is_some() as u8 as f32).collect());
+            return;
+        }
+        // The state reached here is not kept: the next rollout starts from these
+        // observations.
+        let (last_obs, _) = self.views();
+        let dev = &self.infer_device;
+        let keep = self.actor.keeps();
+        let last_values = net
+            .act(
+                &last_obs,
+                &self.actor.memory,
+                &keep,
+                &[],
+                dev,
+                shards_on(dev),
+            )
+            .values;
+        let c = &self.config.ppo;
+        let (adv, returns) = gae(
+            &kept.rewards,
+            &ro.values,
+            &kept.dones,
+            &last_values,
+            c.gamma,
+            c.gae_lambda,
+        );
+        (ro.adv, ro.returns) = (adv, returns);
     }
 }

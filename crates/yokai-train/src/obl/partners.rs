@@ -3,13 +3,13 @@
 //! above) or the policy being learnt (the reference implementation's), with each partner
 //! seat's memory rebuilt in the fictitious world (`partner_memories`).
 
+use super::continuation::random_legal;
 use super::memory::{episode_states, step_along};
+use crate::actor::Actor;
 use crate::distribution::sample_legal;
 use crate::error::TrainError;
 use crate::network::{shards_on, ActorCritic, Encoder, Recurrent, SeatStep};
-use crate::obl::continuation::random_legal;
-use crate::trainer::Trainer;
-use crate::TrainedPolicy;
+use crate::policy::TrainedPolicy;
 use burn::prelude::Device;
 use rand_chacha::ChaCha8Rng;
 use yokai_engine::{Colour, Game, Seat};
@@ -17,7 +17,7 @@ use yokai_vec::Encoding;
 
 /// A network that can play the partners: the previous level's policy, or the learner's own
 /// network on its device ([`Learner`]).
-pub(super) trait PartnerNet {
+pub(crate) trait PartnerNet {
     /// [`ActorCritic::step_seats`]: every seat's memory steps, the acting seats' logits.
     fn step_seats(&self, rows: &[(&Game, Seat)], states: Vec<f32>, keep: Vec<f32>) -> SeatStep;
     /// One memory step of flat rows (observations, states, keep).
@@ -42,7 +42,7 @@ impl PartnerNet for TrainedPolicy {
 }
 
 /// The learner's network on the device it acts on.
-pub(super) struct Learner<'a, E: Encoder, M: Recurrent> {
+pub(crate) struct Learner<'a, E: Encoder, M: Recurrent> {
     pub net: &'a ActorCritic<E, M>,
     pub device: &'a Device,
 }
@@ -67,7 +67,7 @@ impl<E: Encoder, M: Recurrent> PartnerNet for Learner<'_, E, M> {
 }
 
 /// Who plays the partners' turns in the fictitious continuations of one rollout step.
-pub(super) enum Partners<'a> {
+pub(crate) enum Partners<'a> {
     /// Level 0 below level 1: uniformly random legal play.
     Random(&'a mut ChaCha8Rng),
     /// A network: per continuation, its partner seats and their memories (`[seats × H]`).
@@ -133,55 +133,53 @@ impl Partners<'_> {
     }
 }
 
-impl<E: Encoder, M: Recurrent> Trainer<E, M> {
-    /// The memories, in `net`, of the partner seats `seats[i]` of each game `i`, rebuilt by
-    /// replaying the game's episode in its fictitious colouring `colourings[i]`, which must
-    /// reach `worlds[i]`, the game recoloured (`[seats × H]` per game; nothing where
-    /// `seats[i]` is empty).
-    ///
-    /// The real memories read the real colours of the cards each partner observed; in a
-    /// world drawn from the acting seat's belief those colours differ, so the real memory
-    /// would carry facts of the real world into the fictitious one. The reference
-    /// implementation (Hanabi) reuses the real memory, which is sound there only because its
-    /// LSTM reads public features alone. The replay costs one batched network step per step
-    /// of the episode so far, all games together.
-    pub(super) fn partner_memories(
-        &self,
-        net: &dyn PartnerNet,
-        colourings: &[Vec<Colour>],
-        worlds: &[Game],
-        seats: &[Vec<Seat>],
-    ) -> Result<Vec<Vec<f32>>, TrainError> {
-        let mut episodes = Vec::with_capacity(seats.len());
-        for (i, colours) in colourings.iter().enumerate() {
-            if seats[i].is_empty() {
-                episodes.push(Vec::new());
-                continue;
-            }
-            let (start, history) = self.episode_so_far(i);
-            let start = start
-                .with_card_colours(colours)
-                .map_err(|e| TrainError::Obl(format!("env {i}: belief sample: {e}")))?;
-            let replayed = episode_states(start, history);
-            if replayed.last() != Some(&worlds[i]) {
-                return Err(TrainError::Obl(format!(
-                    "env {i}: replaying the episode's {} actions does not reach its state",
-                    history.len()
-                )));
-            }
-            episodes.push(replayed);
+/// The memories, in `net`, of the partner seats `seats[i]` of each game `i`, rebuilt by
+/// replaying the game's episode in its fictitious colouring `colourings[i]`, which must
+/// reach `worlds[i]`, the game recoloured (`[seats × H]` per game; nothing where
+/// `seats[i]` is empty).
+///
+/// The real memories read the real colours of the cards each partner observed; in a
+/// world drawn from the acting seat's belief those colours differ, so the real memory
+/// would carry facts of the real world into the fictitious one. The reference
+/// implementation (Hanabi) reuses the real memory, which is sound there only because its
+/// LSTM reads public features alone. The replay costs one batched network step per step
+/// of the episode so far, all games together.
+pub(crate) fn partner_memories(
+    actor: &Actor,
+    net: &dyn PartnerNet,
+    colourings: &[Vec<Colour>],
+    worlds: &[Game],
+    seats: &[Vec<Seat>],
+) -> Result<Vec<Vec<f32>>, TrainError> {
+    let mut episodes = Vec::with_capacity(seats.len());
+    for (i, colours) in colourings.iter().enumerate() {
+        if seats[i].is_empty() {
+            episodes.push(Vec::new());
+            continue;
         }
-        let sequences: Vec<&[Game]> = episodes.iter().map(|e| &e[..]).collect();
-        let hidden = net.hidden_size();
-        let mut states: Vec<Vec<f32>> = seats.iter().map(|s| vec![0.0; s.len() * hidden]).collect();
-        step_along(
-            &sequences,
-            seats,
-            &mut states,
-            net.encoding(),
-            true,
-            &mut |o, h, k| net.recur(o, h, k),
-        );
-        Ok(states)
+        let (start, history) = actor.episode_so_far(i);
+        let start = start
+            .with_card_colours(colours)
+            .map_err(|e| TrainError::Obl(format!("env {i}: belief sample: {e}")))?;
+        let replayed = episode_states(start, history);
+        if replayed.last() != Some(&worlds[i]) {
+            return Err(TrainError::Obl(format!(
+                "env {i}: replaying the episode's {} actions does not reach its state",
+                history.len()
+            )));
+        }
+        episodes.push(replayed);
     }
+    let sequences: Vec<&[Game]> = episodes.iter().map(|e| &e[..]).collect();
+    let hidden = net.hidden_size();
+    let mut states: Vec<Vec<f32>> = seats.iter().map(|s| vec![0.0; s.len() * hidden]).collect();
+    step_along(
+        &sequences,
+        seats,
+        &mut states,
+        net.encoding(),
+        true,
+        &mut |o, h, k| net.recur(o, h, k),
+    );
+    Ok(states)
 }

@@ -2,10 +2,14 @@
 
 use super::*;
 use crate::network::MlpEncoder;
+use crate::obl::continuation::continue_all;
+use crate::obl::memory::step_along;
+use crate::obl::partners::{partner_memories, Learner, PartnerNet, Partners};
+use crate::obl::targets::partners_of;
 use crate::TrainConfig;
 use burn::module::Module;
 use yokai_agents::belief::colouring::all_colourings;
-use yokai_engine::{Action, Card, Colour};
+use yokai_engine::{Action, Card, Colour, Game, Seat};
 
 fn config() -> TrainConfig {
     let mut c = TrainConfig::from_toml_str(
@@ -26,12 +30,23 @@ fn after_a_rollout(c: TrainConfig, seed: u64, rng_seed: u64) -> (Trainer<MlpEnco
         .collect(1.0, &mut ChaCha8Rng::seed_from_u64(rng_seed))
         .unwrap();
     let net = trainer.model.valid();
-    let (rows, l, na) = (trainer.rows, trainer.obs_len, trainer.n_actions);
+    let (rows, l, na) = (
+        trainer.actor.rows(),
+        trainer.actor.obs_len(),
+        trainer.actor.n_actions(),
+    );
     let (mut obs, mut masks) = (vec![0f32; rows * l], vec![0f32; rows * na]);
-    trainer.view(&mut obs, &mut masks);
+    trainer.actor.view(&mut obs, &mut masks);
     let dev = trainer.infer_device.clone();
     let real = net
-        .act(&obs, &trainer.state.hidden, &trainer.keeps(), &[], &dev, 1)
+        .act(
+            &obs,
+            &trainer.actor.memory,
+            &trainer.actor.keeps(),
+            &[],
+            &dev,
+            1,
+        )
         .states;
     (trainer, real)
 }
@@ -44,9 +59,9 @@ fn after_a_rollout(c: TrainConfig, seed: u64, rng_seed: u64) -> (Trainer<MlpEnco
 fn the_target_of_ending_at_the_start_is_the_mean_over_all_colourings() {
     let trainer = Trainer::<MlpEncoder>::new(config(), 3).unwrap();
     let net = trainer.model.valid();
-    let game = *trainer.env.config();
+    let game = *trainer.actor.env().config();
     let end = game.encode(Action::End) as u32;
-    let rows = trainer.rows;
+    let rows = trainer.actor.rows();
     let joint: Vec<u32> = (0..rows)
         .map(|r| if r % 2 == 0 { end } else { 0 })
         .collect();
@@ -54,7 +69,7 @@ fn the_target_of_ending_at_the_start_is_the_mean_over_all_colourings() {
     let mut exact = [(0f64, 0f64); 8];
     let all = all_colourings(&game);
     for (i, e) in exact.iter_mut().enumerate() {
-        let start = trainer.env.game(i);
+        let start = trainer.actor.env().game(i);
         let rewards: Vec<f64> = all
             .iter()
             .map(|x| {
@@ -70,7 +85,7 @@ fn the_target_of_ending_at_the_start_is_the_mean_over_all_colourings() {
     let draws = 3000;
     let mut sums = [0f64; 8];
     for t in 0..draws {
-        let targets = trainer.obl_targets(&net, t, &joint, 1.0).unwrap().targets;
+        let targets = trainer.obl_step(&net, t, &joint, 1.0).unwrap().targets;
         assert_eq!(targets.len(), 8, "one target per game");
         for (row, target) in targets {
             assert_eq!(row % 2, 0, "seat 0 acts first");
@@ -100,22 +115,27 @@ fn partner_memories_replayed_in_the_true_colours_are_the_real_ones() {
     let net = trainer.model.valid();
     let dev = trainer.infer_device.clone();
     let truths: Vec<Vec<Colour>> = (0..8)
-        .map(|i| trainer.env.game(i).deal().card_colours)
+        .map(|i| trainer.actor.env().game(i).deal().card_colours)
         .collect();
     let seats: Vec<Vec<Seat>> = (0..8)
-        .map(|i| partners_of(trainer.env.game(i), trainer.env.game(i).current_seat()))
+        .map(|i| {
+            partners_of(
+                trainer.actor.env().game(i),
+                trainer.actor.env().game(i).current_seat(),
+            )
+        })
         .collect();
     let h = trainer.model.hidden_size();
     // Recoloured with their own colours, the worlds are the real games.
-    let worlds: Vec<Game> = (0..8).map(|i| trainer.env.game(i).clone()).collect();
+    let worlds: Vec<Game> = (0..8)
+        .map(|i| trainer.actor.env().game(i).clone())
+        .collect();
     let learner = Learner {
         net: &net,
         device: &dev,
     };
-    let replayed = trainer
-        .partner_memories(&learner, &truths, &worlds, &seats)
-        .unwrap();
-    let lengths: Vec<usize> = (0..8).map(|i| trainer.state.history[i].len()).collect();
+    let replayed = partner_memories(&trainer.actor, &learner, &truths, &worlds, &seats).unwrap();
+    let lengths: Vec<usize> = (0..8).map(|i| trainer.actor.history[i].len()).collect();
     assert!(
         lengths.iter().any(|&n| n > 5),
         "some episode is long: {lengths:?}"
@@ -150,16 +170,16 @@ fn obl_partner_chooses_who_plays_the_partners() {
         trainer
             .collect(1.0, &mut ChaCha8Rng::seed_from_u64(3))
             .unwrap();
-        let mut joint = vec![0u32; trainer.rows];
+        let mut joint = vec![0u32; trainer.actor.rows()];
         let mut ends_turn = Vec::new();
         for i in 0..8 {
-            let g = trainer.env.game(i);
+            let g = trainer.actor.env().game(i);
             let seat = g.current_seat();
             joint[2 * i + seat.index()] = g.config().encode(g.legal_actions(seat)[0]) as u32;
             ends_turn.push(g.substep() == Substep::Hint);
         }
         let net = trainer.model.valid();
-        let step = trainer.obl_targets(&net, 0, &joint, 1.0).unwrap();
+        let step = trainer.obl_step(&net, 0, &joint, 1.0).unwrap();
         (step.targets, ends_turn)
     };
     // Three steps in: every game is at its first REVEAL/PLACE.
@@ -187,13 +207,13 @@ fn the_oracle_draws_the_true_colours() {
         let mut c = config();
         c.obl.oracle = oracle;
         let trainer = Trainer::<MlpEncoder>::new(c, 4).unwrap();
-        let end = trainer.env.config().encode(Action::End) as u32;
+        let end = trainer.actor.env().config().encode(Action::End) as u32;
         let net = trainer.model.valid();
         let step = trainer
-            .obl_targets(&net, 0, &vec![end; trainer.rows], 1.0)
+            .obl_step(&net, 0, &vec![end; trainer.actor.rows()], 1.0)
             .unwrap();
         let truths: Vec<Vec<Colour>> = (0..8)
-            .map(|i| trainer.env.game(i).deal().card_colours)
+            .map(|i| trainer.actor.env().game(i).deal().card_colours)
             .collect();
         let drawn: Vec<Vec<Colour>> = step.worlds.iter().map(|w| w.deal().card_colours).collect();
         (drawn, truths)
@@ -217,20 +237,26 @@ fn the_end_term_values_ending_in_the_world_drawn_from_the_belief() {
     let drawn = Trainer::<MlpEncoder>::new(c.clone(), 5).unwrap();
     let net = drawn.model.valid();
     // The worlds depend on the games and the step's stream only, not on the actions.
-    let end = drawn.env.config().encode(Action::End) as u32;
+    let end = drawn.actor.env().config().encode(Action::End) as u32;
     let worlds = drawn
-        .obl_targets(&net, 0, &vec![end; drawn.rows], 1.0)
+        .obl_step(&net, 0, &vec![end; drawn.actor.rows()], 1.0)
         .unwrap()
         .worlds;
     let mut trainer = Trainer::<MlpEncoder>::new(c, 5).unwrap();
-    let truths: Vec<i32> = (0..8).map(|i| trainer.env.game(i).end_reward()).collect();
+    let truths: Vec<i32> = (0..8)
+        .map(|i| trainer.actor.env().game(i).end_reward())
+        .collect();
     let mut rng = ChaCha8Rng::seed_from_u64(1);
     let rollout = trainer.collect(1.0, &mut rng).unwrap();
     let mut differ = 0;
     for (i, world) in worlds.iter().enumerate() {
         let want = world.end_reward();
         let row = 2 * i + world.current_seat().index();
-        assert_eq!(rollout.end_rewards[row], want as f32, "game {i}");
+        assert_eq!(
+            rollout.columns.end.as_ref().unwrap().paid()[row],
+            want as f32,
+            "game {i}"
+        );
         differ += (want != truths[i]) as usize;
     }
     assert!(
@@ -257,7 +283,9 @@ fn a_seat_that_plays_on_carries_the_memory_of_its_whole_continuation() {
         net: &net,
         device: &dev,
     };
-    let games: Vec<Game> = (0..8).map(|i| trainer.env.game(i).clone()).collect();
+    let games: Vec<Game> = (0..8)
+        .map(|i| trainer.actor.env().game(i).clone())
+        .collect();
     use rand_chacha::rand_core::Rng;
     let mut pick = ChaCha8Rng::seed_from_u64(1);
     let starts: Vec<(&Game, usize)> = games

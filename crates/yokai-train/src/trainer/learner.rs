@@ -1,18 +1,18 @@
-//! Learning: the PPO epochs over a rollout, each minibatch a set of whole row sequences
+//! The learner: the PPO epochs over a rollout, each minibatch a set of whole row sequences
 //! replayed from the state stored at the rollout's start; the clipped policy and value
-//! losses, the entropy bonus, the global gradient-norm clip and the Adam step.
+//! losses, the entropy bonus, the add-ons' terms, the global gradient-norm clip and the
+//! Adam step.
 
+use super::addons::{AddOns, ShardColumns};
 use super::minibatch::{self, Shard, Totals};
 use super::rollout::Rollout;
 use super::Trainer;
-use crate::config::EndForm;
-use crate::distribution::{binary_entropy, chosen_log_prob, entropy, masked_log_softmax};
-use crate::network::{shards_on, Encoder, Recurrent};
+use crate::distribution::{chosen_log_prob, entropy, masked_log_softmax};
+use crate::network::{shards_on, ActorCritic, Encoder, Recurrent};
 use crate::tensor::{rows_tensor, tensor1, tensor2};
 use burn::module::{Module, ModuleMapper, ModuleVisitor, Param};
 use burn::optim::{GradientsAccumulator, GradientsParams};
 use burn::prelude::*;
-use burn::tensor::activation::log_softmax;
 use burn::tensor::TensorData;
 use rand_chacha::rand_core::Rng;
 use rand_chacha::ChaCha8Rng;
@@ -41,7 +41,7 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
     /// `epochs` passes over the rollout in `minibatches` shuffled sets of whole rows.
     pub(super) fn learn_epochs(&mut self, ro: &Rollout, lr: f64, rng: &mut ChaCha8Rng) -> Losses {
         let c = self.config.ppo.clone();
-        let rows = self.rows;
+        let rows = self.actor.rows();
         let mb = rows / c.minibatches;
         let mut sum = Losses::default();
         let mut count = 0u64;
@@ -92,28 +92,36 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
     /// ([`super::minibatch`]).
     fn learn(&mut self, batch: &[usize], ro: &Rollout, lr: f64) -> Losses {
         let c = self.config.ppo.clone();
-        let dims = (self.rows, self.obs_len, self.model.hidden_size());
+        let dims = (
+            self.actor.rows(),
+            self.actor.obs_len(),
+            self.model.hidden_size(),
+        );
         let (shards, totals) = minibatch::gather(
             ro,
             batch,
             shards_on(&self.infer_device),
-            &c,
+            (&c, &self.addons),
             &self.game,
             dims,
         );
-        let (model, device, game) = (&self.model, &self.device, &self.game);
+        let (model, device) = (&self.model, &self.device);
+        let job = ShardJob {
+            totals: &totals,
+            c: &c,
+            addons: &self.addons,
+            game: &self.game,
+            d: device,
+        };
         let mut outs: Vec<ShardOut> = if shards.len() == 1 {
-            shards
-                .into_iter()
-                .map(|s| shard_step(model, s, &totals, &c, game, device))
-                .collect()
+            shards.into_iter().map(|s| job.step(model, s)).collect()
         } else {
             use rayon::prelude::*;
             // Each shard learns on its own copy of the parameters (same ids, a graph of
             // its own), so the shards' backward passes do not share a lock.
             shards
                 .into_par_iter()
-                .map(|s| shard_step(&model.clone().fork(device), s, &totals, &c, game, device))
+                .map(|s| job.step(&model.clone().fork(device), s))
                 .collect()
         };
         // The shards' gradients summed, parameter by parameter (a gradient missing in a
@@ -136,7 +144,7 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             approx_kl: total(|o| o.kl) / n.max(1) as f64,
             clip_fraction: total(|o| o.clipped) / n.max(1) as f64,
             grad_norm,
-            belief: (c.belief_aux > 0.0 && n > 0).then(|| {
+            belief: (self.addons.belief.is_some() && n > 0).then(|| {
                 let hits = total(|o| o.belief_hits as f64);
                 (total(|o| o.belief), hits / (n * y) as f64)
             }),
@@ -162,112 +170,179 @@ struct ShardOut {
     belief_hits: u64,
 }
 
-/// The PPO loss of one shard of a minibatch, divided by the minibatch's `totals`, and its
-/// gradients with respect to `model`'s parameters.
-fn shard_step<E: Encoder, M: Recurrent>(
-    model: &crate::network::ActorCritic<E, M>,
-    s: Shard,
-    totals: &Totals,
-    c: &crate::config::PpoConfig,
-    game: &yokai_engine::Config,
-    d: &Device,
-) -> ShardOut {
-    let t_len = c.rollout_steps;
-    let (bm, na, hsz) = (s.sequences, game.num_actions(), model.hidden_size());
-    let l = s.obs.len() / (bm * t_len);
-    let end = game.encode(Action::End);
-    let (y, colours) = (game.cards(), game.colours());
-    let obs: Tensor<3> = Tensor::from_data(TensorData::new(s.obs, [bm, t_len, l]), d);
-    let states = model.unroll(
-        obs.clone(),
-        tensor2(s.h0, [bm, hsz], d),
-        tensor2(s.keep, [bm, t_len], d),
-    );
-    let old_v = tensor1(s.old_v, d);
-    let ret = tensor1(s.ret, d);
-    let v = model.values(states.clone());
-    let v_clipped = old_v.clone() + (v.clone() - old_v).clamp(-c.value_clip, c.value_clip);
-    let per_row = (v - ret.clone())
-        .square()
-        .max_pair((v_clipped - ret).square());
-    let value_loss = if s.value_weight.is_empty() {
-        per_row.sum()
-    } else {
-        (per_row * tensor1(s.value_weight, d)).sum()
-    } / totals.value_rows
-        * 0.5;
-    let n = s.choosing.len();
-    let n_all = totals.choosing as f32;
-    let zero = Tensor::<1>::zeros([1], d).sum();
-    let mut belief_loss = zero.clone();
-    let mut belief_hits = 0;
-    let (policy_loss, ent, end_bonus, (abs_delta, kl, clipped)) = if n == 0 {
-        (zero.clone(), zero.clone(), zero, (0.0, 0.0, 0.0))
-    } else {
-        let idx = rows_tensor(s.choosing, d);
-        // The pointer head also reads the chosen rows' observations.
-        let row_obs = if model.actor_reads_observations() {
-            obs.reshape([bm * t_len, l]).select(0, idx.clone())
-        } else {
-            Tensor::zeros([n, 1], d)
+/// What every shard of a minibatch shares: the minibatch's totals, the settings, the
+/// add-ons that are on, the game and the device.
+struct ShardJob<'a> {
+    totals: &'a Totals,
+    c: &'a crate::config::PpoConfig,
+    addons: &'a AddOns,
+    game: &'a yokai_engine::Config,
+    d: &'a Device,
+}
+
+impl ShardJob<'_> {
+    /// The PPO loss of one shard of a minibatch, divided by the minibatch's totals, and
+    /// its gradients with respect to `model`'s parameters.
+    fn step<E: Encoder, M: Recurrent>(&self, model: &ActorCritic<E, M>, s: Shard) -> ShardOut {
+        let (c, d) = (self.c, self.d);
+        let (bm, t_len, hsz) = (s.sequences, c.rollout_steps, model.hidden_size());
+        let l = s.obs.len() / (bm * t_len);
+        let obs: Tensor<3> = Tensor::from_data(TensorData::new(s.obs, [bm, t_len, l]), d);
+        let states = model.unroll(
+            obs.clone(),
+            tensor2(s.h0, [bm, hsz], d),
+            tensor2(s.keep, [bm, t_len], d),
+        );
+        let value_loss =
+            self.value_loss(model.values(states.clone()), s.old_v, s.ret, s.value_weight);
+        let zero = Tensor::<1>::zeros([1], d).sum();
+        let mut policy = PolicyTerms {
+            loss: zero.clone(),
+            entropy: zero.clone(),
+            end_bonus: zero.clone(),
+            belief: zero,
+            belief_hits: 0,
+            diagnostics: (0.0, 0.0, 0.0),
         };
-        let (logits, colour_logits) =
-            model.policy_and_colour_logits(row_obs, states.select(0, idx));
-        // The network has a colour layer exactly when `belief_aux` > 0.
-        if let Some(colour_logits) = colour_logits {
-            let truth = Tensor::<3>::from_data(TensorData::new(s.truth, [n, y, colours]), d);
-            let log_p = log_softmax(colour_logits, 2);
-            belief_hits = colour_hits(log_p.clone(), truth.clone());
-            belief_loss = (log_p * truth).sum().neg() / (n_all * y as f32);
-        }
-        let mask = tensor2(s.masks, [n, na], d);
-        let log_probs = masked_log_softmax(logits, mask.clone());
-        let logp = chosen_log_prob(log_probs.clone(), tensor2(s.one_hot, [n, na], d));
-        let end_legal = tensor1(s.end_legal, d);
-        // The END terms, averaged over the rows where END is legal: the entropy of
-        // END-or-not, and the exact END term, the expected policy gradient of END,
-        // π(END|s)·(R_END(s) − V(s)), at every such state.
-        let mut end_bonus = Tensor::<1>::zeros([1], d).sum();
-        if c.end_entropy_coef > 0.0 {
-            let h = binary_entropy(log_probs.clone(), end) * end_legal.clone();
-            end_bonus = end_bonus + h.sum() / totals.rows_with_end * c.end_entropy_coef;
-        }
-        if c.end_lookahead > 0.0 {
-            let log_p_end = log_probs.clone().narrow(1, end, 1).squeeze_dim::<1>(1);
-            let end_adv = tensor1(s.end_adv, d);
-            let gain = match c.end_lookahead_form {
-                EndForm::Expected => log_p_end.exp() * end_adv,
-                EndForm::Target => end_target_gain(log_p_end, end_adv, end_legal),
+        if !s.choosing.is_empty() {
+            // The actor head reads the choosing rows only; the pointer head also reads
+            // their observations.
+            let n = s.choosing.len();
+            let idx = rows_tensor(s.choosing, d);
+            let row_obs = if model.actor_reads_observations() {
+                obs.reshape([bm * t_len, l]).select(0, idx.clone())
+            } else {
+                Tensor::zeros([n, 1], d)
             };
-            end_bonus = end_bonus + gain.sum() / totals.rows_with_end * c.end_lookahead;
+            let heads = model.policy_and_colour_logits(row_obs, states.select(0, idx));
+            let rows = ChoosingRows {
+                masks: s.masks,
+                one_hot: s.one_hot,
+                old_logp: s.old_logp,
+                adv: s.adv,
+                addons: s.addons,
+            };
+            policy = self.policy_terms(heads, rows);
         }
-        let row_entropy = entropy(log_probs, mask);
-        let ent = if c.entropy_normalized {
-            (row_entropy * tensor1(s.ent_weight, d)).sum() / n_all
-        } else {
-            row_entropy.sum() / n_all
+        let loss = policy.loss.clone() + value_loss.clone() * c.value_coef
+            - policy.entropy * c.entropy_coef
+            - policy.end_bonus;
+        let loss = match &self.addons.belief {
+            Some(unit) => loss + policy.belief.clone() * unit.weight,
+            None => loss,
         };
-        let adv = tensor1(s.adv, d);
-        let delta = logp - tensor1(s.old_logp, d);
+        let (abs_delta, kl, clipped) = policy.diagnostics;
+        ShardOut {
+            grads: GradientsParams::from_grads(loss.backward(), model),
+            policy: policy.loss.into_scalar::<f32>() as f64,
+            value: value_loss.into_scalar::<f32>() as f64,
+            abs_delta,
+            kl,
+            clipped,
+            belief: policy.belief.into_scalar::<f32>() as f64,
+            belief_hits: policy.belief_hits,
+        }
+    }
+
+    /// PPO's clipped value loss over the shard's rows (with OBL, the rows of weight 1),
+    /// divided by the minibatch's rows that learn their value.
+    fn value_loss(
+        &self,
+        v: Tensor<1>,
+        old_v: Vec<f32>,
+        ret: Vec<f32>,
+        weight: Vec<f32>,
+    ) -> Tensor<1> {
+        let (c, d) = (self.c, self.d);
+        let old_v = tensor1(old_v, d);
+        let ret = tensor1(ret, d);
+        let v_clipped = old_v.clone() + (v.clone() - old_v).clamp(-c.value_clip, c.value_clip);
+        let per_row = (v - ret.clone())
+            .square()
+            .max_pair((v_clipped - ret).square());
+        let sum = if weight.is_empty() {
+            per_row.sum()
+        } else {
+            (per_row * tensor1(weight, d)).sum()
+        };
+        sum / self.totals.value_rows * 0.5
+    }
+
+    /// The terms read off the choosing rows' heads: the clipped policy loss, the entropy
+    /// bonus, the END add-ons' bonus, the belief loss, and the ratio diagnostics.
+    fn policy_terms(
+        &self,
+        (logits, colour_logits): (Tensor<2>, Option<Tensor<3>>),
+        rows: ChoosingRows,
+    ) -> PolicyTerms {
+        let (c, d) = (self.c, self.d);
+        let n = rows.adv.len();
+        let n_all = self.totals.choosing as f32;
+        let na = self.game.num_actions();
+        let ShardColumns {
+            end,
+            truth,
+            entropy_weight,
+        } = rows.addons;
+        let zero = || Tensor::<1>::zeros([1], d).sum();
+        let (mut belief, mut belief_hits) = (zero(), 0);
+        // The network has a colour layer exactly when the belief add-on is on.
+        if let (Some(unit), Some(colour_logits), Some(truth)) =
+            (&self.addons.belief, colour_logits, truth)
+        {
+            let out = unit.loss(colour_logits, truth, n_all, d);
+            (belief, belief_hits) = (out.loss, out.hits);
+        }
+        let mask = tensor2(rows.masks, [n, na], d);
+        let log_probs = masked_log_softmax(logits, mask.clone());
+        let logp = chosen_log_prob(log_probs.clone(), tensor2(rows.one_hot, [n, na], d));
+        let end_bonus = match (&self.addons.end, end) {
+            (Some(unit), Some(end_rows)) => {
+                let end = self.game.encode(Action::End);
+                unit.bonus(&log_probs, end, end_rows, self.totals.rows_with_end, d)
+            }
+            _ => zero(),
+        };
+        let row_entropy = entropy(log_probs, mask);
+        let entropy = match (&self.addons.entropy, entropy_weight) {
+            (Some(unit), Some(weights)) => unit.weigh(row_entropy, weights, d) / n_all,
+            _ => row_entropy.sum() / n_all,
+        };
+        let adv = tensor1(rows.adv, d);
+        let delta = logp - tensor1(rows.old_logp, d);
         let ratio = delta.clone().exp();
         let diagnostics = ratio_diagnostics(delta.detach(), ratio.clone().detach(), c.clip);
         let clipped = ratio.clone().clamp(1.0 - c.clip, 1.0 + c.clip);
-        let policy_loss = (ratio * adv.clone()).min_pair(clipped * adv).sum().neg() / n_all;
-        (policy_loss, ent, end_bonus, diagnostics)
-    };
-    let loss =
-        policy_loss.clone() + value_loss.clone() * c.value_coef - ent * c.entropy_coef - end_bonus
-            + belief_loss.clone() * c.belief_aux;
-    ShardOut {
-        grads: GradientsParams::from_grads(loss.backward(), model),
-        policy: policy_loss.into_scalar::<f32>() as f64,
-        value: value_loss.into_scalar::<f32>() as f64,
-        abs_delta,
-        kl,
-        clipped,
-        belief: belief_loss.into_scalar::<f32>() as f64,
-        belief_hits,
+        let loss = (ratio * adv.clone()).min_pair(clipped * adv).sum().neg() / n_all;
+        PolicyTerms {
+            loss,
+            entropy,
+            end_bonus,
+            belief,
+            belief_hits,
+            diagnostics,
+        }
     }
+}
+
+/// A shard's choosing rows, as the policy terms read them.
+struct ChoosingRows {
+    masks: Vec<f32>,
+    one_hot: Vec<f32>,
+    old_logp: Vec<f32>,
+    adv: Vec<f32>,
+    addons: ShardColumns,
+}
+
+/// The policy-side terms of a shard's loss (zero where the shard has no choosing row).
+struct PolicyTerms {
+    loss: Tensor<1>,
+    entropy: Tensor<1>,
+    end_bonus: Tensor<1>,
+    belief: Tensor<1>,
+    belief_hits: u64,
+    /// Σ |Δ log π|, Σ (r − 1 − log r), clipped ratios.
+    diagnostics: (f64, f64, f64),
 }
 
 /// Over rows with log-ratios `delta` = log π_new − log π_old and ratios `ratio` = e^delta
@@ -280,29 +355,6 @@ fn ratio_diagnostics(delta: Tensor<1>, ratio: Tensor<1>, clip: f32) -> (f64, f64
     let sums = Tensor::cat(vec![delta.abs().sum(), kl, outside], 0);
     let v = crate::tensor::to_vec(sums);
     (v[0] as f64, v[1] as f64, v[2] as f64)
-}
-
-/// Cards among `[n, Y, C]` whose most likely colour under `log_p` is the true one.
-fn colour_hits(log_p: Tensor<3>, truth: Tensor<3>) -> u64 {
-    let picked = log_p.detach().argmax(2);
-    let true_colour = truth.argmax(2);
-    picked.equal(true_colour).int().sum().into_scalar::<i64>() as u64
-}
-
-/// Temperature of the target form, in points of reward: σ(advantage / 0.25) is 0.98 where
-/// ending pays one point more than playing on and 6·10⁻⁶ where it costs three (a typical
-/// unwon board), so the target is close to "1 if ending pays" and adds no floor to P(END)
-/// where it does not (at one point, σ(−3) would keep P(END) at 5 % there).
-const END_TARGET_TEMPERATURE: f32 = 0.25;
-
-/// The target form's gain per row, t·log P(END) + (1 − t)·log(1 − P(END)) with
-/// t = σ((R_END − V) / `END_TARGET_TEMPERATURE`); `end_legal` (1 or 0 per row) keeps rows
-/// where END is illegal out.
-fn end_target_gain(log_p_end: Tensor<1>, end_adv: Tensor<1>, end_legal: Tensor<1>) -> Tensor<1> {
-    let target = burn::tensor::activation::sigmoid(end_adv / END_TARGET_TEMPERATURE);
-    // log(1 − p), with p kept below 1 so it stays finite.
-    let log_rest = log_p_end.clone().exp().clamp_max(1.0 - 1e-6).neg().log1p();
-    (target.clone() * log_p_end + (target.neg() + 1.0) * log_rest) * end_legal
 }
 
 /// Scale all gradients together so that their global L2 norm is at most `max_norm`, and
@@ -405,56 +457,5 @@ mod tests {
         assert!((kl - want_kl).abs() < 1e-6, "{kl} vs {want_kl}");
         // r = 1, 1.105, 0.741, 1.284: two lie outside [0.8, 1.2].
         assert_eq!(outside, 2.0);
-    }
-
-    /// The target END term's gradient on the END log-odds is σ(advantage / T) − P(END): it does
-    /// not fade where P(END) is tiny, never exceeds 1 whatever the advantage, and rows where
-    /// END is illegal get none.
-    #[test]
-    fn the_end_target_pulls_the_log_odds_towards_sigmoid_of_the_advantage() {
-        let sig = |x: f32| 1.0 / (1.0 + (-x).exp());
-        // (log-odds of END, advantage)
-        let cases: [(f32, f32); 7] = [
-            (-9.0, -3.0), // ending loses, P(END) tiny already: almost no push
-            (-9.0, 12.0), // a won board with P(END) tiny: a full push up
-            (-4.0, -3.0),
-            (0.0, -3.0),
-            (0.0, 5.0),
-            (3.0, 0.5),
-            (9.0, 15.0),
-        ];
-        let dev = Device::flex().autodiff();
-        let p: Vec<f32> = cases.iter().map(|c| sig(c.0)).collect();
-        let log_p: Vec<f32> = p.iter().map(|p| p.ln()).collect();
-        let mut adv: Vec<f32> = cases.iter().map(|c| c.1).collect();
-        let mut log_p = log_p;
-        let mut legal = vec![1.0; cases.len()];
-        // One row where END is illegal: no gradient at all.
-        adv.push(4.0);
-        log_p.push(sig(0.0).ln());
-        legal.push(0.0);
-        let log_p_end = tensor1(log_p, &dev).require_grad();
-        let gain =
-            end_target_gain(log_p_end.clone(), tensor1(adv, &dev), tensor1(legal, &dev)).sum();
-        let grads = gain.backward();
-        let g: Vec<f32> = log_p_end
-            .grad(&grads)
-            .unwrap()
-            .into_data()
-            .convert::<f32>()
-            .try_into_vec()
-            .unwrap();
-        for (i, &(x, a)) in cases.iter().enumerate() {
-            // d log-odds / d log p = 1 / (1 − p): undo it to read the log-odds' gradient.
-            let on_log_odds = g[i] * (1.0 - p[i]);
-            let want = sig(a / END_TARGET_TEMPERATURE) - p[i];
-            assert!(
-                (on_log_odds - want).abs() < 1e-3,
-                "log-odds {x}, advantage {a}: gradient {on_log_odds}, want {want}"
-            );
-            assert!(on_log_odds.abs() <= 1.0);
-        }
-        assert!(g[1] * (1.0 - p[1]) > 0.99, "full push at a won board");
-        assert_eq!(g[cases.len()], 0.0, "END illegal: no gradient");
     }
 }

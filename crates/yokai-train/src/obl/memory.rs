@@ -10,7 +10,7 @@ use yokai_vec::Encoding;
 /// observations (in `encoding`) of that state, in one batched `step(obs, states, keep)`.
 /// `states[g]` holds the seats' memories (`seats[g].len()` rows) before the first state and
 /// after the last on return; `fresh` zeroes them at depth 0 (an episode's start).
-pub(super) fn step_along(
+pub(crate) fn step_along(
     sequences: &[&[Game]],
     seats: &[Vec<Seat>],
     states: &mut [Vec<f32>],
@@ -61,7 +61,7 @@ pub(super) fn step_along(
 
 /// The states of an episode from `start` through `history` (action indices): `start` and
 /// the state after each action, the last one the episode's current state.
-pub(super) fn episode_states(start: Game, history: &[u32]) -> Vec<Game> {
+pub(crate) fn episode_states(start: Game, history: &[u32]) -> Vec<Game> {
     let mut states = Vec::with_capacity(history.len() + 1);
     states.push(start);
     for &action in history {

@@ -1,0 +1,238 @@
+//! The actor: the batched games, the symmetry each seat sees its game through, every seat's
+//! memory, and each game's actions so far. It shows the network what every seat sees and
+//! steps the games with the seats' choices; it knows nothing of learning.
+
+use yokai_engine::{derive_seed, Card, Config, EpisodeRecord, Game, RecordedGame, Seat, Symmetry};
+use yokai_vec::{episode_seed, Encoding, VecEnv};
+
+/// The games of one run, as its seats see and play them. Row `r` of every buffer is seat
+/// `r % P` of game `r / P`.
+pub(crate) struct Actor {
+    env: VecEnv<f32>,
+    game: Config,
+    /// The run's seed: each seat's symmetry is drawn from it per episode.
+    seed: u64,
+    /// The seed the batch of games was dealt from (a function of the run's seed).
+    env_seed: u64,
+    encoding: Encoding,
+    /// The symmetries a seat may draw (identity only without Other-Play).
+    symmetries: Vec<Symmetry>,
+    /// Per row: the seat's symmetry this episode and its inverse.
+    row_sym: Vec<(Symmetry, Symmetry)>,
+    /// Every row's recurrent memory `[rows × H]`, after the last observation it read.
+    pub memory: Vec<f32>,
+    /// Per game: the acting seats' actions so far in its current episode.
+    pub history: Vec<Vec<u32>>,
+    /// The last finished game of env 0 (deal seed, actions), to save as a replay.
+    last_game: Option<(u64, Vec<u32>)>,
+    obs_len: usize,
+    n_actions: usize,
+}
+
+impl Actor {
+    /// `env`'s games seen through `symmetries` (each seat draws one per episode from
+    /// `seed`), every memory of width `hidden` zeroed.
+    pub fn new(
+        env: VecEnv<f32>,
+        seed: u64,
+        env_seed: u64,
+        symmetries: Vec<Symmetry>,
+        hidden: usize,
+    ) -> Actor {
+        let game = *env.config();
+        let encoding = env.encoding();
+        let (n, p) = (env.num_envs(), game.players());
+        let identity = Symmetry::identity(&game);
+        let mut actor = Actor {
+            obs_len: encoding.shape(&game).iter().product(),
+            n_actions: game.num_actions(),
+            game,
+            seed,
+            env_seed,
+            encoding,
+            symmetries,
+            row_sym: vec![(identity, identity); n * p],
+            memory: vec![0.0; n * p * hidden],
+            history: vec![Vec::new(); n],
+            last_game: None,
+            env,
+        };
+        for i in 0..n {
+            actor.draw_symmetries(i);
+        }
+        actor
+    }
+
+    pub fn env(&self) -> &VecEnv<f32> {
+        &self.env
+    }
+    pub fn game(&self, i: usize) -> &Game {
+        self.env.game(i)
+    }
+    /// Rows of the batch: every seat of every game.
+    pub fn rows(&self) -> usize {
+        self.row_sym.len()
+    }
+    /// Length of one row's observation.
+    pub fn obs_len(&self) -> usize {
+        self.obs_len
+    }
+    pub fn n_actions(&self) -> usize {
+        self.n_actions
+    }
+
+    /// The symmetry row `row` sees its game through.
+    pub fn symmetry(&self, row: usize) -> Symmetry {
+        self.row_sym[row].0
+    }
+
+    /// Other-Play: each seat of game `env` draws its own symmetry for the game's current
+    /// episode, a function of (seed, env, episode, seat).
+    fn draw_symmetries(&mut self, env: usize) {
+        let p = self.game.players();
+        let k = self.symmetries.len() as u64;
+        let episode_stream = derive_seed(
+            derive_seed(derive_seed(self.seed, 0x0B), env as u64),
+            self.env.episodes(env),
+        );
+        for s in 0..p {
+            let pick = derive_seed(episode_stream, s as u64) % k;
+            let sym = self.symmetries[pick as usize];
+            self.row_sym[env * p + s] = (sym, sym.inverse());
+        }
+    }
+
+    /// Every row's observation and legal mask as its seat sees them (its symmetry applied).
+    pub fn view(&self, obs: &mut [f32], masks: &mut [f32]) {
+        let (l, na) = (self.obs_len, self.n_actions);
+        let src_obs = self.env.observations();
+        let src_masks = self.env.legal_masks();
+        let mut mask_f = vec![0f32; na];
+        for (r, (sym, _)) in self.row_sym.iter().enumerate() {
+            let o_in = &src_obs[r * l..][..l];
+            let o_out = &mut obs[r * l..][..l];
+            for (m, &b) in mask_f.iter_mut().zip(&src_masks[r * na..][..na]) {
+                *m = b as f32;
+            }
+            let m_out = &mut masks[r * na..][..na];
+            if sym.is_identity() {
+                o_out.copy_from_slice(o_in);
+                m_out.copy_from_slice(&mask_f);
+                continue;
+            }
+            match self.encoding {
+                Encoding::Image(part, layout) => {
+                    sym.apply_image_in(&self.game, part, layout, o_in, o_out)
+                }
+                Encoding::Graph(part) => sym.apply_nodes(&self.game, part, o_in, o_out),
+                Encoding::None => Ok(()),
+            }
+            .expect("buffers sized from the same config");
+            sym.apply_mask(&self.game, &mask_f, m_out)
+                .expect("buffers sized from the same config");
+        }
+    }
+
+    /// The true colour of every card of `row`'s game, named as the row's seat sees colours
+    /// (its symmetry's relabelling applied).
+    pub fn view_truth(&self, row: usize, out: &mut [u8]) {
+        let game = self.env.game(row / self.game.players());
+        let sym = self.row_sym[row].0;
+        for (k, colour) in out.iter_mut().enumerate() {
+            *colour = sym.map_colour(game.colour_of(Card(k as u8))).0;
+        }
+    }
+
+    /// Per row: 0 where the row's next step starts an episode (its game has no step yet),
+    /// which zeroes that row's recurrent state, else 1.
+    pub fn keeps(&self) -> Vec<f32> {
+        let p = self.game.players();
+        (0..self.rows())
+            .map(|r| (self.env.game(r / p).steps() > 0) as u8 as f32)
+            .collect()
+    }
+
+    /// Map a row's chosen action from its seat's view back to the true game.
+    pub fn to_true_action(&self, row: usize, view_action: usize) -> usize {
+        self.row_sym[row]
+            .1
+            .apply_action_index(&self.game, view_action)
+    }
+
+    /// Step every game with the rows' true-frame actions `joint`. A game that ends is
+    /// dealt again (its seats draw new symmetries); the last finished game of env 0 is
+    /// kept as a replay.
+    pub fn step(&mut self, joint: &[u32]) -> Result<(), yokai_vec::VecError> {
+        let p = self.game.players();
+        let acting = self.env.acting_seats().to_vec();
+        self.env.step_joint(joint)?;
+        for (i, &seat) in acting.iter().enumerate() {
+            let action = joint[i * p + seat as usize];
+            if self.env.dones()[i] == 1 {
+                if i == 0 {
+                    let mut actions = std::mem::take(&mut self.history[0]);
+                    actions.push(action);
+                    // The environment has already moved on to the next episode.
+                    let finished = self.env.episodes(0) - 1;
+                    self.last_game = Some((episode_seed(self.env_seed, 0, finished), actions));
+                }
+                self.history[i].clear();
+                self.draw_symmetries(i);
+            } else {
+                self.history[i].push(action);
+            }
+        }
+        Ok(())
+    }
+
+    /// The learner's memory of `seat` in game `i` after it read this step's observation.
+    pub fn memory_of(&self, i: usize, seat: Seat) -> &[f32] {
+        let hsz = self.memory.len() / self.rows();
+        let row = i * self.game.players() + seat.index();
+        &self.memory[row * hsz..][..hsz]
+    }
+
+    /// The first state of game `i`'s current episode (its deal) and the actions since.
+    pub fn episode_so_far(&self, i: usize) -> (Game, &[u32]) {
+        let seed = episode_seed(self.env_seed, i, self.env.episodes(i));
+        (Game::new(self.game, seed), &self.history[i])
+    }
+
+    /// Each game's episode index.
+    pub fn episodes(&self) -> Vec<u64> {
+        (0..self.env.num_envs())
+            .map(|i| self.env.episodes(i))
+            .collect()
+    }
+
+    /// Put every game back where a checkpoint left it: game `i` in episode `episodes[i]`
+    /// after `history[i]`, with `memory` as every row's memory.
+    pub fn restore(
+        &mut self,
+        episodes: &[u64],
+        history: Vec<Vec<u32>>,
+        memory: Vec<f32>,
+    ) -> Result<(), yokai_vec::VecError> {
+        for (i, actions) in history.iter().enumerate() {
+            self.env.restore(i, episodes[i], actions)?;
+        }
+        self.history = history;
+        self.memory = memory;
+        for i in 0..self.env.num_envs() {
+            self.draw_symmetries(i);
+        }
+        Ok(())
+    }
+
+    /// The last game of env 0 that finished, as played in training (deal and actions).
+    pub fn last_finished_game(&self) -> Option<EpisodeRecord> {
+        let (seed, actions) = self.last_game.as_ref()?;
+        let mut game = RecordedGame::new(self.game, *seed);
+        for &a in actions {
+            let action = self.game.decode(a as usize).expect("an index of this game");
+            game.apply(action)
+                .expect("actions recorded from the environment are legal");
+        }
+        Some(game.into_record())
+    }
+}

@@ -1,0 +1,155 @@
+//! OBL levels ≥ 2: the previous level, whose self-play the belief model is trained on and
+//! which plays the partners inside the fictitious continuations unless `obl.partner` is
+//! `learner` (`partners`).
+//!
+//! **The belief** conditions on the acting seat's real history: every row's belief memory
+//! steps on the row's real observation at every rollout step ([`PreviousLevel::observe`])
+//! and is saved in checkpoints, so a resume continues it exactly.
+
+use super::belief::first_hand_slots;
+use super::learn::{BeliefStats, BeliefTrainConfig, BeliefTrainer, LevelBelow};
+use super::model::BeliefModel;
+use crate::actor::Actor;
+use crate::config::TrainConfig;
+use crate::error::TrainError;
+use crate::policy::TrainedPolicy;
+use crate::tensor::{tensor2, to_vec};
+use burn::prelude::*;
+use rand_chacha::ChaCha8Rng;
+use yokai_engine::{derive_seed, Colour, Config, Part, Seat};
+use yokai_vec::Encoding;
+
+/// Updates at the end of the belief's training whose figures are averaged for the report.
+const REPORTED_UPDATES: usize = 20;
+
+/// The level below a level ≥ 2 run: its policy and the belief trained on its games.
+pub(crate) struct PreviousLevel {
+    pub policy: TrainedPolicy,
+    pub belief: BeliefModel,
+    /// Every training update's figures, in order (each measured on its rollout before
+    /// learning from it): the belief's learning curve.
+    pub belief_curve: Vec<BeliefStats>,
+    /// The belief's memory of every row of the run's games `[rows × H_belief]`.
+    pub memory: Vec<f32>,
+}
+
+impl PreviousLevel {
+    /// Load `obl.previous` (seed N's `seed-N` inside it where there is one) and train the
+    /// belief on its self-play, deterministically in `seed`; its memory of the run's `rows`
+    /// rows starts at zero.
+    pub fn load(
+        config: &TrainConfig,
+        game: &Config,
+        seed: u64,
+        rows: usize,
+        device: &Device,
+    ) -> Result<PreviousLevel, TrainError> {
+        let given = config
+            .obl
+            .previous
+            .as_ref()
+            .expect("validated: levels ≥ 2 name their previous level");
+        let policy = TrainedPolicy::load(&crate::artifact::names::seed_path(given, seed))?;
+        policy.check_game(game)?;
+        let belief_config =
+            BeliefTrainConfig::small(config.obl.belief_hidden, config.obl.belief_updates);
+        let mut trainer = BeliefTrainer::new(
+            *game,
+            belief_config,
+            LevelBelow::Network(Box::new(policy.clone())),
+            derive_seed(seed, 0xB0B),
+            device.clone(),
+        )?;
+        let belief_curve = (0..config.obl.belief_updates)
+            .map(|_| trainer.update())
+            .collect();
+        let belief = trainer.into_model();
+        Ok(PreviousLevel {
+            policy,
+            memory: vec![0.0; rows * belief.hidden_size()],
+            belief,
+            belief_curve,
+        })
+    }
+
+    /// The figures reported: slot-weighted means over the last `REPORTED_UPDATES` updates
+    /// of the belief's training (one rollout of 16 games is too few to compare a belief
+    /// with its baseline).
+    pub fn belief_stats(&self) -> BeliefStats {
+        let tail = self.belief_curve.len().saturating_sub(REPORTED_UPDATES);
+        BeliefStats::mean(self.belief_curve[tail..].iter().copied())
+    }
+
+    /// Every row's belief memory reads its observation of this step: `obs` is what the
+    /// learner's network read (`encoding`), `keep` 0 where an episode starts. Every seat's
+    /// memory steps on every step, as it did on the previous level's games it learnt from.
+    pub fn observe(
+        &mut self,
+        actor: &Actor,
+        obs: &[f32],
+        encoding: Encoding,
+        keep: &[f32],
+        dev: &Device,
+    ) {
+        let game = *actor.env().config();
+        let graph = Encoding::Graph(Part::Full);
+        let rows = keep.len();
+        let l: usize = graph.shape(&game).iter().product();
+        // The compact network reads the same graph observation; the paper's reads the image.
+        let written;
+        let obs = if encoding == graph {
+            obs
+        } else {
+            let p = game.players();
+            let mut o = vec![0f32; rows * l];
+            for r in 0..rows {
+                graph
+                    .write(actor.game(r / p), Seat((r % p) as u8), &mut o[r * l..][..l])
+                    .expect("buffers sized from the same config");
+            }
+            written = o;
+            &written
+        };
+        let hb = self.belief.hidden_size();
+        let h = self.belief.step(
+            tensor2(obs.to_vec(), [rows, l], dev),
+            tensor2(std::mem::take(&mut self.memory), [rows, hb], dev),
+            tensor2(keep.to_vec(), [rows, 1], dev),
+        );
+        self.memory = to_vec(h);
+    }
+
+    /// A colouring per game from the belief model, for its acting seat, from the memory
+    /// that seat's real history built ([`PreviousLevel::observe`]).
+    pub fn sample_beliefs(
+        &self,
+        actor: &Actor,
+        dev: &Device,
+        rng: &mut ChaCha8Rng,
+    ) -> Vec<Vec<Colour>> {
+        let game = *actor.env().config();
+        let n = actor.env().num_envs();
+        let (y, p) = (game.cards(), game.players());
+        let hb = self.belief.hidden_size();
+        let graph = Encoding::Graph(Part::Full);
+        let l: usize = graph.shape(&game).iter().product();
+        let (mut obs, mut adjacency) = (vec![0f32; n * l], vec![0f32; n * y * y]);
+        let mut first = Vec::with_capacity(n * y);
+        let mut states = Vec::with_capacity(n * hb);
+        for i in 0..n {
+            let real = actor.game(i);
+            let seat = real.current_seat();
+            let row = i * p + seat.index();
+            states.extend_from_slice(&self.memory[row * hb..][..hb]);
+            graph
+                .write(real, seat, &mut obs[i * l..][..l])
+                .expect("buffers sized from the same config");
+            real.write_adjacency(&mut adjacency[i * y * y..][..y * y])
+                .expect("buffers sized from the same config");
+            first.extend(first_hand_slots(real, seat));
+        }
+        let states = tensor2(states, [n, hb], dev);
+        self.belief
+            .sample(&game, states, &obs, &adjacency, &first, rng)
+    }
+}
