@@ -6,10 +6,10 @@ use crate::errors::{config_error, illegal};
 use pyo3::prelude::*;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
-use yokai_agents::{Policy, PolicySpec};
+use yokai_agents::Policy;
 use yokai_engine::{Config, Game};
 #[cfg(feature = "trained")]
-use yokai_train::TrainedPolicy;
+use yokai_train::{EndRule, PolicySource, TrainedPolicy};
 
 /// A built-in policy by name (``"random"``, ``"greedy"``, ``"belief"``, with parameters as
 /// ``"belief:continue_win=0.9"``), or a trained policy given as the path of a policy file,
@@ -57,18 +57,11 @@ impl PyAgent {
     #[new]
     #[pyo3(signature = (name, seed=0, end=None))]
     fn new(name: &str, seed: u64, end: Option<&Bound<'_, PyAny>>) -> PyResult<Self> {
-        let end = end.map(end_rule).transpose()?;
-        let (label, trained, mut policy) = if Path::new(name).exists() {
-            let (about, policy) = load_trained(name, seed, end)?;
-            (name.to_string(), Some(about), policy)
-        } else if end.is_some() {
-            return Err(pyo3::exceptions::PyValueError::new_err(format!(
-                "`end` sets how a trained policy plays END; `{name}` is not a trained policy"
-            )));
-        } else {
-            let spec: PolicySpec = name.parse().map_err(config_error)?;
-            (spec.to_string(), None, spec.build(seed))
-        };
+        let Seated {
+            label,
+            trained,
+            mut policy,
+        } = seat(name, seed, end)?;
         policy.reset(seed);
         Ok(PyAgent {
             name: label,
@@ -120,55 +113,76 @@ impl PyAgent {
     }
 }
 
-/// The `end` argument: `Some(t)` decides END at threshold `t` (checked where the policy
-/// takes it, `TrainedPolicy::set_end_threshold`), `None` draws it.
-fn end_rule(end: &Bound<'_, PyAny>) -> PyResult<Option<f64>> {
-    if let Ok(text) = end.extract::<String>() {
-        return match text.as_str() {
-            "draw" => Ok(None),
-            _ => Err(pyo3::exceptions::PyValueError::new_err(format!(
-                "end={text:?}: give None, \"draw\" or a probability in (0, 1)"
-            ))),
-        };
+/// A policy as an `Agent` holds it: the name it shows, a trained policy's file and game,
+/// and the seat-holder.
+struct Seated {
+    label: String,
+    trained: Option<(PathBuf, Config)>,
+    policy: Box<dyn Policy>,
+}
+
+/// `name` read as every front end reads a policy ([`PolicySource`]), seated with `seed`;
+/// `end`, when given, is the END rule of a trained policy (a bot's is refused).
+#[cfg(feature = "trained")]
+fn seat(name: &str, seed: u64, end: Option<&Bound<'_, PyAny>>) -> PyResult<Seated> {
+    let mut source = PolicySource::parse(name).map_err(config_error)?;
+    if let Some(end) = end {
+        source
+            .set_end_rule(end_rule(end)?, true)
+            .map_err(config_error)?;
     }
-    if end.is_instance_of::<pyo3::types::PyBool>() {
-        return Err(pyo3::exceptions::PyValueError::new_err(format!(
-            "end={end}: give None, \"draw\" or a probability in (0, 1)"
-        )));
-    }
-    end.extract::<f64>().map(Some).map_err(|_| {
-        pyo3::exceptions::PyTypeError::new_err("end must be None, \"draw\" or a float in (0, 1)")
+    let trained = source
+        .trained()
+        .map(|p| (p.path().to_path_buf(), *p.game()));
+    Ok(Seated {
+        label: match trained {
+            Some(_) => name.to_string(),
+            None => source.name(),
+        },
+        trained,
+        policy: source.build(seed),
     })
 }
 
-/// A trained policy file, checkpoint or run directory, seated with `seed`; `end`, when
-/// given, replaces the file's END rule.
-#[cfg(feature = "trained")]
-fn load_trained(
-    name: &str,
-    seed: u64,
-    end: Option<Option<f64>>,
-) -> PyResult<((PathBuf, Config), Box<dyn Policy>)> {
-    let mut policy = TrainedPolicy::load(Path::new(name)).map_err(config_error)?;
-    if let Some(rule) = end {
-        policy.set_end_threshold(rule).map_err(config_error)?;
+/// Without the trainer only the bots can sit: a path or an END rule is refused.
+#[cfg(not(feature = "trained"))]
+fn seat(name: &str, seed: u64, end: Option<&Bound<'_, PyAny>>) -> PyResult<Seated> {
+    if Path::new(name).exists() {
+        return Err(config_error(format!(
+            "`{name}` is a trained policy, but this build of yokai has no trained-policy support \
+             (built with --no-default-features): install it with the default features"
+        )));
     }
-    Ok((
-        (policy.path().to_path_buf(), *policy.game()),
-        policy.build(seed),
-    ))
+    if end.is_some() {
+        return Err(config_error(format!(
+            "`end` sets how a trained policy plays END; `{name}` is not a trained policy"
+        )));
+    }
+    let spec: yokai_agents::PolicySpec = name.parse().map_err(config_error)?;
+    Ok(Seated {
+        label: spec.to_string(),
+        trained: None,
+        policy: spec.build(seed),
+    })
 }
 
-#[cfg(not(feature = "trained"))]
-fn load_trained(
-    name: &str,
-    _seed: u64,
-    _end: Option<Option<f64>>,
-) -> PyResult<((PathBuf, Config), Box<dyn Policy>)> {
-    Err(config_error(format!(
-        "`{name}` is a trained policy, but this build of yokai has no trained-policy support \
-         (built with --no-default-features): install it with the default features"
-    )))
+/// The `end` argument: ``"draw"`` or a probability (checked where the policy takes it,
+/// `TrainedPolicy::set_end_threshold`).
+#[cfg(feature = "trained")]
+fn end_rule(end: &Bound<'_, PyAny>) -> PyResult<EndRule> {
+    let bad = || format!("end={end}: give None, \"draw\" or a probability in (0, 1)");
+    if let Ok(text) = end.extract::<String>() {
+        return match text.as_str() {
+            "draw" => Ok(EndRule::Draw),
+            _ => Err(pyo3::exceptions::PyValueError::new_err(bad())),
+        };
+    }
+    if end.is_instance_of::<pyo3::types::PyBool>() {
+        return Err(pyo3::exceptions::PyValueError::new_err(bad()));
+    }
+    end.extract::<f64>().map(EndRule::Threshold).map_err(|_| {
+        pyo3::exceptions::PyTypeError::new_err("end must be None, \"draw\" or a float in (0, 1)")
+    })
 }
 
 /// Every parameter of the trained network at ``path`` (policy file, checkpoint or run

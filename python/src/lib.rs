@@ -23,6 +23,13 @@ fn episode_seed(seed: u64, env: usize, episode: u64) -> u64 {
     yokai_vec::episode_seed(seed, env, episode)
 }
 
+/// The seeds ``text`` names: ``"0..3"`` (0, 1, 2), ``"0,4,7"`` or ``"5"``, as
+/// ``yokai train --seeds`` reads them (one definition for both).
+#[pyfunction]
+fn parse_seeds(text: &str) -> PyResult<Vec<u64>> {
+    yokai_agents::parse_seeds(text).map_err(errors::config_error)
+}
+
 /// The names of the built-in configurations.
 #[pyfunction]
 fn configs() -> Vec<String> {
@@ -38,6 +45,7 @@ fn yokai_core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<agent::PyAgent>()?;
     m.add_function(wrap_pyfunction!(episode_seed, m)?)?;
     m.add_function(wrap_pyfunction!(configs, m)?)?;
+    m.add_function(wrap_pyfunction!(parse_seeds, m)?)?;
     #[cfg(feature = "trained")]
     {
         m.add_function(wrap_pyfunction!(agent::policy_parameters, m)?)?;

@@ -68,19 +68,13 @@ class Row:
 
 
 def parse_seeds(text: str) -> tuple:
-    """``0..3`` (0, 1, 2), ``0,4,7`` or ``5``, as ``yokai train --seeds`` reads them."""
-    text = str(text).strip()
+    """``0..3`` (0, 1, 2), ``0,4,7`` or ``5``: ``yokai train --seeds``'s own parser."""
+    from yokai import _core
+
     try:
-        if ".." in text:
-            a, b = (int(x) for x in text.split("..", 1))
-            if b <= a:
-                raise ValueError(f"--seeds {text!r} is empty (A..B excludes B)")
-            return tuple(range(a, b))
-        return tuple(int(x) for x in text.split(","))
+        return tuple(_core.parse_seeds(str(text).strip()))
     except ValueError as e:
-        if "empty" in str(e):
-            raise
-        raise ValueError(f"--seeds {text!r} is not A..B, a comma-separated list or a number") from None
+        raise ValueError(f"--seeds {e}") from None
 
 
 def config_name(config: str) -> str:

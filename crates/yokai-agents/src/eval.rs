@@ -4,7 +4,7 @@
 
 use crate::{play_episode, PlayError, Policy};
 use rayon::prelude::*;
-use yokai_engine::{derive_seed, Config, MetricsAccumulator};
+use yokai_engine::{derive_seed, Config, Metrics, MetricsAccumulator};
 
 /// Makes a fresh policy for a seat from a seed (one per seat and worker).
 pub type PolicyFactory<'a> = dyn Fn(u64) -> Box<dyn Policy> + Sync + 'a;
@@ -47,6 +47,70 @@ pub fn play_group(
         })
 }
 
+/// One entry of a cross-play table: the games of the policies `row` and `col`.
+#[derive(Clone, Debug)]
+pub struct PairResult {
+    pub row: usize,
+    pub col: usize,
+    pub metrics: Metrics,
+}
+
+/// What [`cross_play`] reports as it goes.
+#[derive(Clone, Copy, Debug)]
+pub enum Progress {
+    /// The pair of policies now playing.
+    Pair { row: usize, col: usize },
+    /// This many more games finished.
+    Games(u64),
+}
+
+/// The pairs of `n` policies (each with itself included, `row ≤ col`) with their seatings
+/// at `players` seats and the games each seating plays: `games` per pair, split evenly
+/// over its seatings (rounded up).
+pub fn cross_play_plan(
+    n: usize,
+    players: usize,
+    games: u64,
+) -> Vec<(usize, usize, Vec<Vec<usize>>, u64)> {
+    (0..n)
+        .flat_map(|i| (i..n).map(move |j| (i, j)))
+        .map(|(i, j)| {
+            let s = seatings(&[i, j], players);
+            let per = games.div_ceil(s.len() as u64);
+            (i, j, s, per)
+        })
+        .collect()
+}
+
+/// Every pair of `policies` (each with itself included) over all seatings that use both,
+/// `games` per pair ([`cross_play_plan`]), game i of every seating dealt from `seed`: the
+/// paper's cross-play table, run in the current rayon pool.
+pub fn cross_play(
+    config: Config,
+    policies: &[&PolicyFactory<'_>],
+    games: u64,
+    seed: u64,
+    progress: &(dyn Fn(Progress) + Sync),
+) -> Result<Vec<PairResult>, PlayError> {
+    let mut results = Vec::new();
+    for (row, col, seatings, games) in cross_play_plan(policies.len(), config.players(), games) {
+        progress(Progress::Pair { row, col });
+        let mut acc = MetricsAccumulator::default();
+        for seating in &seatings {
+            let seats: Vec<&PolicyFactory<'_>> = seating.iter().map(|&k| policies[k]).collect();
+            let part = play_group(config, &seats, games, seed, &|g| {
+                progress(Progress::Games(g))
+            })?;
+            acc.merge(&part);
+        }
+        let metrics = acc
+            .metrics()
+            .expect("every seating plays at least one game");
+        results.push(PairResult { row, col, metrics });
+    }
+    Ok(results)
+}
+
 /// Every arrangement of `members` (indices into a list of policies) over the seats: all
 /// permutations of a group, with repetition when the group is smaller than the table
 /// (e.g. two policies at three seats: every seating that uses both).
@@ -76,4 +140,53 @@ pub fn seatings(members: &[usize], players: usize) -> Vec<Vec<usize>> {
     distinct.dedup();
     extend(&distinct, players, &mut current, &mut out);
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::PolicySpec;
+    use std::sync::atomic::{AtomicU64, Ordering};
+
+    /// The cross-play table of two bots is, pair by pair, the groups `play_group` plays in
+    /// each seating, merged; it reports every pair before its games and every game once.
+    #[test]
+    fn cross_play_is_every_pair_over_its_seatings() {
+        let config = Config::resolve("9c-2p-perfect").unwrap();
+        let specs = [PolicySpec::Random, PolicySpec::Greedy];
+        let makers: Vec<Box<PolicyFactory<'_>>> = specs
+            .iter()
+            .map(|s| Box::new(move |seed| s.build(seed)) as Box<PolicyFactory<'_>>)
+            .collect();
+        let policies: Vec<&PolicyFactory<'_>> = makers.iter().map(|m| m.as_ref()).collect();
+        let (games, seed) = (101, 7);
+        let played = AtomicU64::new(0);
+        let pairs = std::sync::Mutex::new(Vec::new());
+        let results = cross_play(config, &policies, games, seed, &|p| match p {
+            Progress::Pair { row, col } => pairs.lock().unwrap().push((row, col)),
+            Progress::Games(g) => {
+                played.fetch_add(g, Ordering::Relaxed);
+            }
+        })
+        .unwrap();
+        let order: Vec<(usize, usize)> = results.iter().map(|r| (r.row, r.col)).collect();
+        assert_eq!(order, [(0, 0), (0, 1), (1, 1)]);
+        assert_eq!(*pairs.lock().unwrap(), order);
+        let plan = cross_play_plan(2, 2, games);
+        let total: u64 = plan.iter().map(|(_, _, s, g)| s.len() as u64 * g).sum();
+        // Self-play: one seating of 101 games; cross-play: two seatings of 51.
+        assert_eq!(total, 101 + 2 * 51 + 101);
+        assert_eq!(played.load(Ordering::Relaxed), total);
+        for (result, (_, _, seatings, per)) in results.iter().zip(&plan) {
+            let mut want = MetricsAccumulator::default();
+            for seating in seatings {
+                let seats: Vec<&PolicyFactory<'_>> = seating.iter().map(|&k| policies[k]).collect();
+                want.merge(&play_group(config, &seats, *per, seed, &|_| {}).unwrap());
+            }
+            assert_eq!(result.metrics, want.metrics().unwrap());
+        }
+        // Greedy never ends early; random ends most games early.
+        assert_eq!(results[2].metrics.early_end, 0.0);
+        assert!(results[0].metrics.early_end > 0.5);
+    }
 }

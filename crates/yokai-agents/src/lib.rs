@@ -13,12 +13,14 @@ pub mod eval;
 mod greedy;
 mod play;
 mod random;
+mod seeds;
 mod spec;
 
 pub use belief::{BeliefParams, BeliefPolicy};
 pub use greedy::GreedyPolicy;
 pub use play::{play_episode, Episode, PlayError};
 pub use random::RandomPolicy;
+pub use seeds::{parse_seeds, SeedsError};
 pub use spec::{PolicySpec, SpecError};
 
 use yokai_engine::{Action, Seat, SeatView};

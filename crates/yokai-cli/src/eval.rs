@@ -2,14 +2,16 @@
 
 use crate::plots;
 use crate::summary::{paper_rows, summarise, table_row, EvalSummary, GroupSummary, TABLE_HEAD};
-use anyhow::{anyhow, bail, Context};
+use anyhow::{bail, Context};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
-use yokai_agents::eval::{play_group, seatings, PolicyFactory};
-use yokai_agents::{Policy, PolicySpec};
-use yokai_engine::{Config, Metrics, MetricsAccumulator};
-use yokai_train::config::ActConfig;
-use yokai_train::TrainedPolicy;
+use yokai_agents::eval::{
+    cross_play, cross_play_plan, seatings, PairResult, PolicyFactory, Progress,
+};
+use yokai_agents::Policy;
+use yokai_engine::{Config, Metrics};
+use yokai_train::source::{end_rule_label, run_dir_of};
+use yokai_train::{EndRule, PolicySource};
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -43,106 +45,6 @@ pub struct Args {
     /// rules. A trained policy that decides END is named with its threshold in the tables.
     #[arg(long, default_value = "file")]
     end: EndRule,
-}
-
-/// One entry of the cross-play table: the games of the policies in `row` and `col`.
-pub struct PairResult {
-    pub row: usize,
-    pub col: usize,
-    pub metrics: Metrics,
-}
-
-/// How the trained policies of an evaluation choose END (`--end`).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum EndRule {
-    /// As each policy's training config says.
-    File,
-    /// Drawn like any other action.
-    Draw,
-    /// END where P(END) exceeds the threshold.
-    Threshold(f64),
-}
-
-impl std::str::FromStr for EndRule {
-    type Err = String;
-    fn from_str(s: &str) -> Result<EndRule, String> {
-        match s {
-            "file" => Ok(EndRule::File),
-            "draw" => Ok(EndRule::Draw),
-            _ => s
-                .parse::<f64>()
-                .ok()
-                .filter(|&t| ActConfig::end_threshold_from(t).is_ok())
-                .map(EndRule::Threshold)
-                .ok_or_else(|| {
-                    format!("`{s}` is not an END rule: `file`, `draw` or a probability in (0, 1)")
-                }),
-        }
-    }
-}
-
-/// How a trained policy's name shows its END rule in the tables: ` (END > t)` where it
-/// decides END, nothing where it draws it.
-fn end_rule_label(p: &TrainedPolicy) -> String {
-    p.end_threshold()
-        .map_or_else(String::new, |t| format!(" (END > {t})"))
-}
-
-/// A policy in an evaluation: a built-in bot or a trained network.
-pub enum Entry {
-    Builtin(PolicySpec),
-    Trained(Box<TrainedPolicy>),
-}
-
-impl Entry {
-    /// A built-in name, or a path to a policy file, checkpoint or run directory.
-    pub fn parse(text: &str) -> anyhow::Result<Entry> {
-        let path = Path::new(text);
-        if path.exists() {
-            return TrainedPolicy::load(path)
-                .map(|p| Entry::Trained(Box::new(p)))
-                .map_err(anyhow::Error::from);
-        }
-        text.parse::<PolicySpec>().map(Entry::Builtin).map_err(|e| {
-            anyhow!("{e}; a trained policy is given as the path of a policy file, checkpoint or run directory")
-        })
-    }
-
-    pub fn name(&self) -> String {
-        match self {
-            Entry::Builtin(spec) => spec.to_string(),
-            Entry::Trained(p) => {
-                format!("{}{}", run_dir_of(p.path()).display(), end_rule_label(p))
-            }
-        }
-    }
-
-    /// Make a trained policy choose END by `rule` (bots keep their own rules).
-    pub fn set_end_rule(&mut self, rule: EndRule) -> anyhow::Result<()> {
-        if let Entry::Trained(p) = self {
-            match rule {
-                EndRule::File => {}
-                EndRule::Draw => p.set_end_threshold(None)?,
-                EndRule::Threshold(t) => p.set_end_threshold(Some(t))?,
-            }
-        }
-        Ok(())
-    }
-
-    pub fn build(&self, seed: u64) -> Box<dyn Policy> {
-        match self {
-            Entry::Builtin(spec) => spec.build(seed),
-            Entry::Trained(p) => p.build(seed),
-        }
-    }
-
-    /// A trained network fits only the game it was trained on.
-    pub fn check_game(&self, config: &Config) -> anyhow::Result<()> {
-        match self {
-            Entry::Trained(p) => p.check_game(config).map_err(anyhow::Error::from),
-            Entry::Builtin(_) => Ok(()),
-        }
-    }
 }
 
 /// Expand the policy arguments: a quoted glob in the last path component
@@ -209,24 +111,18 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     let mut entries = expand(&args.policies)?
         .iter()
-        .map(|p| Entry::parse(p))
+        .map(|p| PolicySource::parse(p))
         .collect::<Result<Vec<_>, _>>()?;
     for entry in &mut entries {
-        entry.set_end_rule(args.end)?;
+        entry.set_end_rule(args.end, false)?;
     }
     // Trained policies bring their game; a --config must agree with it.
-    let config = match (
-        &args.config,
-        entries.iter().find_map(|e| match e {
-            Entry::Trained(p) => Some(*p.game()),
-            Entry::Builtin(_) => None,
-        }),
-    ) {
+    let config = match (&args.config, entries.iter().find_map(PolicySource::game)) {
         (Some(name), _) => Config::resolve(name)?,
         (None, Some(game)) => game,
         (None, None) => Config::resolve("9c-2p-perfect")?,
     };
-    let names: Vec<String> = entries.iter().map(Entry::name).collect();
+    let names: Vec<String> = entries.iter().map(PolicySource::name).collect();
     let results = evaluate(&config, &entries, args.games, args.seed, args.threads)?;
     let groups = summarise_groups(&entries, &names, &results);
     match args.out {
@@ -258,7 +154,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
 /// replay files `I-J-gameK.jsonl` in `dir`.
 pub fn save_replays(
     config: &Config,
-    entries: &[Entry],
+    entries: &[PolicySource],
     pairs: &[(usize, usize)],
     games: u64,
     seed: u64,
@@ -292,7 +188,7 @@ pub fn save_replays(
 /// Every pair of `entries` (each with itself included) over all seatings that use both.
 pub fn evaluate(
     config: &Config,
-    entries: &[Entry],
+    entries: &[PolicySource],
     games: u64,
     seed: u64,
     threads: Option<usize>,
@@ -300,23 +196,12 @@ pub fn evaluate(
     for e in entries {
         e.check_game(config)?;
     }
-    let config = *config;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads.unwrap_or(0))
         .build()
         .context("could not start threads")?;
-    let n = entries.len();
-    let pairs: Vec<(usize, usize)> = (0..n).flat_map(|i| (i..n).map(move |j| (i, j))).collect();
-    let players = config.players();
-    let per_pair: Vec<(usize, usize, Vec<Vec<usize>>, u64)> = pairs
-        .iter()
-        .map(|&(i, j)| {
-            let s = seatings(&[i, j], players);
-            let games = games.div_ceil(s.len() as u64);
-            (i, j, s, games)
-        })
-        .collect();
-    let total: u64 = per_pair.iter().map(|(_, _, s, g)| s.len() as u64 * g).sum();
+    let plan = cross_play_plan(entries.len(), config.players(), games);
+    let total: u64 = plan.iter().map(|(_, _, s, g)| s.len() as u64 * g).sum();
     let bar = ProgressBar::new(total).with_style(
         ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len} games ({per_sec}, eta {eta})")
             .expect("valid template")
@@ -326,24 +211,16 @@ pub fn evaluate(
         .iter()
         .map(|entry| Box::new(move |seed| entry.build(seed)) as Box<PolicyFactory<'_>>)
         .collect();
-    let names: Vec<String> = entries.iter().map(Entry::name).collect();
-    let mut results = Vec::new();
-    for (i, j, seatings, games) in per_pair {
-        bar.set_message(format!("{} + {}", names[i], names[j]));
-        let mut acc = MetricsAccumulator::default();
-        for seating in &seatings {
-            let seats: Vec<&PolicyFactory<'_>> =
-                seating.iter().map(|&k| factories[k].as_ref()).collect();
-            let part = pool.install(|| play_group(config, &seats, games, seed, &|g| bar.inc(g)))?;
-            acc.merge(&part);
-        }
-        let metrics = acc.metrics().expect("at least one game");
-        results.push(PairResult {
-            row: i,
-            col: j,
-            metrics,
-        });
-    }
+    let policies: Vec<&PolicyFactory<'_>> = factories.iter().map(|f| f.as_ref()).collect();
+    let names: Vec<String> = entries.iter().map(PolicySource::name).collect();
+    let results = pool.install(|| {
+        cross_play(*config, &policies, games, seed, &|p| match p {
+            Progress::Pair { row, col } => {
+                bar.set_message(format!("{} + {}", names[row], names[col]))
+            }
+            Progress::Games(g) => bar.inc(g),
+        })
+    })?;
     bar.finish_and_clear();
     Ok(results)
 }
@@ -367,10 +244,10 @@ fn row_of(m: &Metrics) -> String {
 
 /// Trained policies grouped by method: seeds are run directories `METHOD/seed-N`, so the
 /// group is the parent directory. Each group becomes one row of the paper's table.
-pub fn groups_of(entries: &[Entry]) -> Vec<(String, Vec<usize>)> {
+pub fn groups_of(entries: &[PolicySource]) -> Vec<(String, Vec<usize>)> {
     let mut groups: Vec<(String, Vec<usize>)> = Vec::new();
     for (i, e) in entries.iter().enumerate() {
-        let Entry::Trained(p) = e else { continue };
+        let Some(p) = e.trained() else { continue };
         let run = run_dir_of(p.path());
         let method = run
             .parent()
@@ -387,20 +264,9 @@ pub fn groups_of(entries: &[Entry]) -> Vec<(String, Vec<usize>)> {
     groups
 }
 
-/// The run directory of a policy file or checkpoint inside one (else the file itself).
-fn run_dir_of(path: &Path) -> PathBuf {
-    match path.file_name().and_then(|f| f.to_str()) {
-        Some(yokai_train::artifact::names::POLICY)
-        | Some(yokai_train::artifact::names::CHECKPOINT) => {
-            path.parent().map_or(path.to_path_buf(), Path::to_path_buf)
-        }
-        _ => path.to_path_buf(),
-    }
-}
-
 /// The paper's table for the groups of trained seeds in an evaluation.
 pub fn summarise_groups(
-    entries: &[Entry],
+    entries: &[PolicySource],
     names: &[String],
     results: &[PairResult],
 ) -> Vec<GroupSummary> {
@@ -478,12 +344,12 @@ pub fn report(
 pub fn write_outputs(
     dir: &Path,
     config: &Config,
-    entries: &[Entry],
+    entries: &[PolicySource],
     results: &[PairResult],
     games: u64,
     groups: &[GroupSummary],
 ) -> anyhow::Result<String> {
-    let names: Vec<String> = entries.iter().map(Entry::name).collect();
+    let names: Vec<String> = entries.iter().map(PolicySource::name).collect();
     let names = &names;
     std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
     let write = |file: &str, text: String| {
@@ -509,10 +375,7 @@ pub fn write_outputs(
     pictures.push(("cross-play heatmap", "xp_heatmap.png"));
     let runs: Vec<(String, PathBuf)> = entries
         .iter()
-        .filter_map(|e| match e {
-            Entry::Trained(p) => Some((e.name(), run_dir_of(p.path()))),
-            Entry::Builtin(_) => None,
-        })
+        .filter_map(|e| Some((e.name(), run_dir_of(e.trained()?.path()))))
         .filter(|(_, d)| d.join(yokai_train::artifact::names::METRICS).exists())
         .collect();
     if !runs.is_empty() {

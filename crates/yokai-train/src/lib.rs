@@ -10,7 +10,8 @@
 //! - [`backend`] (devices by name), then [`error`] (every error a person reads);
 //! - [`artifact`]: files on disk (container, header, run-directory names, SafeTensors);
 //! - [`network`]: the actor-critics;
-//! - [`policy`]: trained networks seated as players;
+//! - [`policy`]: trained networks seated as players, and [`source`]: a policy by name (a
+//!   bot or a trained file) and its END rule, as every front end reads one;
 //! - algorithms: `actor` (the batched games as the seats see and play them), [`obl`]
 //!   (beliefs and fictitious continuations), then [`trainer`] (PPO);
 //! - [`probe`] and [`run`] (a run directory over the trainer).
@@ -28,6 +29,7 @@ pub mod error;
 pub mod artifact;
 pub mod network;
 pub mod policy;
+pub mod source;
 
 pub(crate) mod actor;
 pub mod obl;
@@ -50,4 +52,5 @@ pub use network::{
 };
 pub use policy::{NetworkPolicy, TrainedPolicy};
 pub use run::{read_metrics, train_run, RunRequest, RunSummary};
+pub use source::{EndRule, PolicySource, SourceError};
 pub use trainer::{Trainer, UpdateStats};

@@ -4,12 +4,12 @@ pub mod line;
 pub mod session;
 pub mod tui;
 
-use crate::eval::Entry;
 use anyhow::{anyhow, Context};
 use session::{Player, Session};
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use yokai_engine::Config;
+use yokai_train::PolicySource;
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -69,7 +69,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             players.push((name.clone(), Player::Human));
             continue;
         }
-        let entry = Entry::parse(name)?;
+        let entry = PolicySource::parse(name)?;
         entry.check_game(&config)?;
         let bot = entry.build(seed ^ players.len() as u64);
         players.push((entry.name(), Player::Bot(bot)));

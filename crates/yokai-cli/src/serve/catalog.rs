@@ -8,7 +8,6 @@
 //! participant with its contents.
 
 use super::error::{quoted, ApiError, ApiResult};
-use crate::eval::Entry;
 use crate::play::session::Player;
 use anyhow::{bail, Context};
 use std::collections::BTreeMap;
@@ -16,6 +15,7 @@ use std::path::Path;
 use std::sync::Arc;
 use yokai_engine::Config;
 use yokai_train::artifact::names::is_run;
+use yokai_train::PolicySource;
 
 /// The seat of a person at the page.
 pub const HUMAN: &str = "human";
@@ -28,7 +28,7 @@ pub struct Catalog {
     /// Offered games in order, the default first.
     configs: Vec<(String, Config)>,
     /// Offered bots and policies by name (`human` is always offered and not stored).
-    seats: BTreeMap<String, Arc<Entry>>,
+    seats: BTreeMap<String, Arc<PolicySource>>,
 }
 
 impl Catalog {
@@ -55,15 +55,15 @@ impl Catalog {
             seats: BTreeMap::new(),
         };
         for bot in BOTS {
-            catalog.add(bot, Entry::parse(bot)?);
+            catalog.add(bot, PolicySource::parse(bot)?);
         }
         for seat in seats.iter().filter(|s| s.as_str() != HUMAN) {
-            let entry = Entry::parse(seat).with_context(|| format!("--seats: {seat}"))?;
+            let entry = PolicySource::parse(seat).with_context(|| format!("--seats: {seat}"))?;
             catalog.add(seat, entry);
         }
         if let Some(dir) = policies {
             for (name, path) in policies_under(dir)? {
-                let entry = Entry::parse(&path.display().to_string())
+                let entry = PolicySource::parse(&path.display().to_string())
                     .with_context(|| format!("--policies: {}", path.display()))?;
                 catalog.add(&name, entry);
             }
@@ -71,7 +71,7 @@ impl Catalog {
         Ok(catalog)
     }
 
-    fn add(&mut self, name: &str, entry: Entry) {
+    fn add(&mut self, name: &str, entry: PolicySource) {
         self.seats.insert(name.to_string(), Arc::new(entry));
     }
 
@@ -113,7 +113,7 @@ impl Catalog {
 
     /// The seat called `name`: `None` for a person, else the bot or policy. A name not
     /// offered (a path among them) is refused with the list.
-    pub fn seat(&self, name: &str) -> ApiResult<Option<Arc<Entry>>> {
+    pub fn seat(&self, name: &str) -> ApiResult<Option<Arc<PolicySource>>> {
         if name == HUMAN {
             return Ok(None);
         }

@@ -1,0 +1,205 @@
+//! Where a seated policy comes from, as every front end names it: a built-in bot
+//! (`random`, `greedy`, `belief:continue_win=0.9`) or the path of a trained policy file,
+//! checkpoint or run directory; and how a trained policy plays END. `yokai eval`, `play`,
+//! `serve`, `train`'s evaluation and Python's `yokai.Agent` all read policies through this
+//! one definition.
+
+use crate::artifact::names::{CHECKPOINT, POLICY};
+use crate::config::ActConfig;
+use crate::error::TrainError;
+use crate::policy::TrainedPolicy;
+use std::path::{Path, PathBuf};
+use yokai_agents::{Policy, PolicySpec};
+use yokai_engine::Config;
+
+/// How a trained policy chooses END when it plays.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum EndRule {
+    /// As its training config says (`act.end_threshold`).
+    File,
+    /// Drawn like any other action.
+    Draw,
+    /// END where P(END) exceeds the threshold, a probability in (0, 1).
+    Threshold(f64),
+}
+
+impl std::str::FromStr for EndRule {
+    type Err = String;
+    /// `file`, `draw`, or a probability in (0, 1).
+    fn from_str(s: &str) -> Result<EndRule, String> {
+        match s {
+            "file" => Ok(EndRule::File),
+            "draw" => Ok(EndRule::Draw),
+            _ => s
+                .parse::<f64>()
+                .ok()
+                .filter(|&t| ActConfig::end_threshold_from(t).is_ok())
+                .map(EndRule::Threshold)
+                .ok_or_else(|| {
+                    format!("`{s}` is not an END rule: `file`, `draw` or a probability in (0, 1)")
+                }),
+        }
+    }
+}
+
+impl EndRule {
+    /// Make `policy` play END by this rule (a threshold outside (0, 1) is refused).
+    pub fn apply(self, policy: &mut TrainedPolicy) -> Result<(), TrainError> {
+        match self {
+            EndRule::File => Ok(()),
+            EndRule::Draw => policy.set_end_threshold(None),
+            EndRule::Threshold(t) => policy.set_end_threshold(Some(t)),
+        }
+    }
+}
+
+/// Why a policy name was refused.
+#[derive(Debug, thiserror::Error)]
+pub enum SourceError {
+    /// A path that exists but does not hold a trained policy.
+    #[error(transparent)]
+    Trained(#[from] TrainError),
+    /// Neither an existing path nor a built-in name.
+    #[error(
+        "{0}; a trained policy is given as the path of a policy file, checkpoint or run directory"
+    )]
+    Unknown(#[source] yokai_agents::SpecError),
+    /// An END rule given to a bot, which keeps its own.
+    #[error("an END rule sets how a trained policy plays END; `{0}` is not a trained policy but a built-in bot")]
+    EndRuleForBot(String),
+}
+
+/// A policy that can be seated: a built-in bot or a trained network.
+#[derive(Clone, Debug)]
+pub enum PolicySource {
+    Builtin(PolicySpec),
+    Trained(Box<TrainedPolicy>),
+}
+
+impl PolicySource {
+    /// An existing path is a trained policy (policy file, checkpoint or run directory);
+    /// anything else must be a built-in name.
+    pub fn parse(text: &str) -> Result<PolicySource, SourceError> {
+        let path = Path::new(text);
+        if path.exists() {
+            return Ok(PolicySource::Trained(Box::new(TrainedPolicy::load(path)?)));
+        }
+        text.parse::<PolicySpec>()
+            .map(PolicySource::Builtin)
+            .map_err(SourceError::Unknown)
+    }
+
+    /// The name tables show: a bot's spec, or a trained policy's run directory with
+    /// ` (END > t)` where it decides END.
+    pub fn name(&self) -> String {
+        match self {
+            PolicySource::Builtin(spec) => spec.to_string(),
+            PolicySource::Trained(p) => {
+                format!("{}{}", run_dir_of(p.path()).display(), end_rule_label(p))
+            }
+        }
+    }
+
+    /// Make a trained policy play END by `rule`; bots keep their own rules, so `File` is
+    /// the only rule one accepts when `strict` (Python's `end=` for a bot is a mistake),
+    /// and every rule leaves it as it is otherwise (`yokai eval --end` over a mixed list).
+    pub fn set_end_rule(&mut self, rule: EndRule, strict: bool) -> Result<(), SourceError> {
+        match self {
+            PolicySource::Trained(p) => Ok(rule.apply(p)?),
+            PolicySource::Builtin(spec) if strict && rule != EndRule::File => {
+                Err(SourceError::EndRuleForBot(spec.to_string()))
+            }
+            PolicySource::Builtin(_) => Ok(()),
+        }
+    }
+
+    /// A fresh seat-holder; `seed` drives its randomness.
+    pub fn build(&self, seed: u64) -> Box<dyn Policy> {
+        match self {
+            PolicySource::Builtin(spec) => spec.build(seed),
+            PolicySource::Trained(p) => p.build(seed),
+        }
+    }
+
+    /// The trained network, if this is one.
+    pub fn trained(&self) -> Option<&TrainedPolicy> {
+        match self {
+            PolicySource::Trained(p) => Some(p),
+            PolicySource::Builtin(_) => None,
+        }
+    }
+
+    /// The game a trained policy was trained on (a bot plays any).
+    pub fn game(&self) -> Option<Config> {
+        self.trained().map(|p| *p.game())
+    }
+
+    /// A trained network fits only the game it was trained on.
+    pub fn check_game(&self, config: &Config) -> Result<(), TrainError> {
+        match self {
+            PolicySource::Trained(p) => p.check_game(config),
+            PolicySource::Builtin(_) => Ok(()),
+        }
+    }
+}
+
+/// How a trained policy's name shows its END rule in tables: ` (END > t)` where it decides
+/// END, nothing where it draws it.
+pub fn end_rule_label(p: &TrainedPolicy) -> String {
+    p.end_threshold()
+        .map_or_else(String::new, |t| format!(" (END > {t})"))
+}
+
+/// The run directory of a policy file or checkpoint inside one (else the path itself).
+pub fn run_dir_of(path: &Path) -> PathBuf {
+    match path.file_name().and_then(|f| f.to_str()) {
+        Some(POLICY) | Some(CHECKPOINT) => {
+            path.parent().map_or(path.to_path_buf(), Path::to_path_buf)
+        }
+        _ => path.to_path_buf(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn end_rules_parse_and_refuse_what_is_not_a_probability() {
+        assert_eq!("file".parse(), Ok(EndRule::File));
+        assert_eq!("draw".parse(), Ok(EndRule::Draw));
+        assert_eq!("0.3".parse(), Ok(EndRule::Threshold(0.3)));
+        for bad in ["0", "1", "1.5", "-0.2", "NaN", "sometimes", ""] {
+            let err = bad.parse::<EndRule>().unwrap_err();
+            assert!(err.contains("not an END rule"), "{bad}: {err}");
+        }
+    }
+
+    #[test]
+    fn names_that_are_not_paths_are_bots_or_refused() {
+        let belief = PolicySource::parse("belief:continue_win=0.9").unwrap();
+        assert!(belief.trained().is_none() && belief.game().is_none());
+        assert!(belief.name().starts_with("belief:continue_win=0.9"));
+        let err = PolicySource::parse("runs/nowhere/seed-0").unwrap_err();
+        assert!(matches!(err, SourceError::Unknown(_)), "{err}");
+        assert!(err.to_string().contains("path of a policy file"), "{err}");
+        // A bot keeps its END rule: refused when strict, left alone otherwise.
+        let mut greedy = PolicySource::parse("greedy").unwrap();
+        assert!(greedy.set_end_rule(EndRule::Draw, false).is_ok());
+        assert!(greedy.set_end_rule(EndRule::File, true).is_ok());
+        let err = greedy.set_end_rule(EndRule::Draw, true).unwrap_err();
+        assert!(
+            err.to_string().contains("`greedy` is not a trained policy"),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn a_run_directory_names_its_policy_files() {
+        let run = Path::new("runs/cpu/seed-1");
+        assert_eq!(run_dir_of(&run.join(POLICY)), run);
+        assert_eq!(run_dir_of(&run.join(CHECKPOINT)), run);
+        assert_eq!(run_dir_of(run), run);
+        assert_eq!(run_dir_of(Path::new("a.ykp")), Path::new("a.ykp"));
+    }
+}
