@@ -1,0 +1,196 @@
+//! `[network]`: the encoder, memory and heads.
+
+use super::{bad, Checked};
+use serde::{Deserialize, Serialize};
+use yokai_engine::Config;
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct NetworkConfig {
+    pub preset: NetworkPreset,
+    /// The encoder; unset, the preset's ([`NetworkConfig::encoder`]).
+    pub encoder: Option<EncoderKind>,
+    /// Graph encoders: message-passing layers and their width (4 and 64 in the paper).
+    pub graph_layers: usize,
+    pub graph_width: usize,
+    /// The memory: `gru` (the paper's) or `trxl`.
+    pub memory: MemoryKind,
+    /// Transformer-XL: model width, attention heads, steps remembered, and the bias that
+    /// starts its gates near the identity (64, 8, 32 and 2 in the paper).
+    pub trxl_width: usize,
+    pub trxl_heads: usize,
+    pub trxl_memory: usize,
+    pub trxl_gate_bias: f64,
+    /// The actor head: `dense` (the paper's) or `pointer`.
+    pub head: ActionHead,
+    /// Pointer head only: NOOP, END and REVEAL read the mean and maximum of the card
+    /// embeddings besides the GRU state, so "is every colour clustered?" — a question about
+    /// all cards at once — reaches the END logit directly.
+    pub pointer_pool: bool,
+    /// Width of the embedding layer and of the GRU state (256 in the paper).
+    pub hidden: usize,
+    /// Conv filters per layer (paper preset only; 64 in the paper).
+    pub filters: usize,
+    /// Orthogonal-init gain of the actor head (small, so the first policy is near uniform).
+    pub actor_gain: f64,
+    /// Orthogonal-init gain of the critic head.
+    pub critic_gain: f64,
+}
+
+impl Default for NetworkConfig {
+    fn default() -> Self {
+        NetworkConfig {
+            preset: NetworkPreset::Paper,
+            encoder: None,
+            graph_layers: 4,
+            graph_width: 64,
+            memory: MemoryKind::Gru,
+            trxl_width: 64,
+            trxl_heads: 8,
+            trxl_memory: 32,
+            trxl_gate_bias: 2.0,
+            head: ActionHead::Dense,
+            pointer_pool: false,
+            hidden: 256,
+            filters: 64,
+            actor_gain: 0.01,
+            critic_gain: 1.0,
+        }
+    }
+}
+
+impl NetworkConfig {
+    /// The encoder: `network.encoder`, else the preset's (`cnn` for `paper`, `mlp` for
+    /// `compact`).
+    pub fn encoder(&self) -> EncoderKind {
+        self.encoder.unwrap_or(match self.preset {
+            NetworkPreset::Paper => EncoderKind::Cnn,
+            NetworkPreset::Compact => EncoderKind::Mlp,
+        })
+    }
+}
+
+impl NetworkConfig {
+    /// The network section on its own, for `game` (the CNN needs a large enough grid).
+    pub(super) fn check(&self, game: &Config) -> Checked {
+        let n = self;
+        if n.hidden == 0 || n.filters == 0 {
+            return bad("network.hidden / network.filters", "must be at least 1");
+        }
+        let encoder = n.encoder();
+        if !encoder.reads_graph() && game.grid() < 9 {
+            return bad(
+                "network.encoder",
+                "cnn (the paper preset's) and public-private need a grid of at least 9×9 (four \
+                 valid 3×3 convolutions)",
+            );
+        }
+        if n.head == ActionHead::Pointer && !encoder.reads_graph() {
+            return bad(
+                "network.head",
+                "pointer reads the graph node features: it needs network.preset = \"compact\" \
+                 or a graph encoder (network.encoder = \"mlp\", \"gcn\", \"gatv2\" or \"relation\")",
+            );
+        }
+        if n.graph_layers == 0 || n.graph_width == 0 || n.graph_width % GRAPH_HEADS != 0 {
+            return bad(
+                "network.graph_layers / network.graph_width",
+                "need at least 1 layer and a width that is a positive multiple of 4 (the heads)",
+            );
+        }
+        if n.trxl_heads == 0 || n.trxl_width == 0 || n.trxl_width % n.trxl_heads != 0 {
+            return bad(
+                "network.trxl_width / network.trxl_heads",
+                "need at least 1 head and a width that is a multiple of the heads",
+            );
+        }
+        if n.trxl_memory == 0 || !n.trxl_gate_bias.is_finite() {
+            return bad(
+                "network.trxl_memory / network.trxl_gate_bias",
+                "need at least 1 remembered step and a finite gate bias",
+            );
+        }
+        if n.pointer_pool && n.head != ActionHead::Pointer {
+            return bad("network.pointer_pool", "needs network.head = \"pointer\"");
+        }
+        Ok(())
+    }
+}
+
+/// Attention heads of the GATv2 and relation encoders (the paper's 4).
+pub const GRAPH_HEADS: usize = 4;
+
+/// Which network: the paper's CNN-GRU, or a small MLP-GRU that learns on a laptop CPU.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum NetworkPreset {
+    /// 4 × Conv2d(64, 3×3, valid) over the image observation → Linear → GRU.
+    Paper,
+    /// Two-layer MLP over the per-card (graph node) features → GRU.
+    Compact,
+}
+
+/// The observation encoder (`network.encoder`). Unset, it follows the preset: `cnn` for
+/// `paper`, `mlp` for `compact`. The graph encoders are the paper's encoder ablations; they
+/// read the graph observation (node features; the edges are rebuilt from the features, see
+/// `network/graph.rs`) and keep the preset's embedding width and memory.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum EncoderKind {
+    /// 4 × Conv2d(filters, 3×3, valid) over the image observation (the paper's).
+    Cnn,
+    /// One layer shared by every node, then one over all nodes in order (compact).
+    Mlp,
+    /// Graph convolutions (Kipf & Welling) over the board's 4-neighbourhood.
+    Gcn,
+    /// GATv2 attention (Brody et al.) over the same edges, 4 heads.
+    Gatv2,
+    /// Self-attention between every pair of nodes (a relation module), 4 heads.
+    Relation,
+    /// The paper's CNN twice, over the image's public and private (known-colour) channels:
+    /// OBL's public–private architecture (`network/public_private.rs`).
+    #[serde(rename = "public-private")]
+    PublicPrivate,
+}
+
+impl std::fmt::Display for EncoderKind {
+    /// The name a config file gives it (`network.encoder`), as serde spells it: the names
+    /// are written once, in the attributes above.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match serde_json::to_value(self) {
+            Ok(serde_json::Value::String(name)) => f.write_str(&name),
+            _ => write!(f, "{self:?}"),
+        }
+    }
+}
+
+impl EncoderKind {
+    /// Whether the encoder reads the graph observation (which the pointer head needs too).
+    pub fn reads_graph(self) -> bool {
+        !matches!(self, EncoderKind::Cnn | EncoderKind::PublicPrivate)
+    }
+}
+
+/// The recurrent memory (`network.memory`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum MemoryKind {
+    /// A GRU of width `network.hidden` (the paper's).
+    #[default]
+    Gru,
+    /// A gated Transformer-XL layer over the last `network.trxl_memory` steps (the paper's
+    /// memory ablation; `network/trxl.rs`).
+    Trxl,
+}
+
+/// How the actor turns the GRU state into action logits.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ActionHead {
+    /// One dense layer `hidden → N_a` (the paper's).
+    #[default]
+    Dense,
+    /// Logits of OBSERVE, MOVE and PLACE scored from per-card and per-hint embeddings
+    /// (`network/pointer.rs`); compact network only.
+    Pointer,
+}

@@ -1,0 +1,118 @@
+//! `[obl]`: Off-Belief Learning.
+
+use super::{bad, Checked};
+use serde::{Deserialize, Serialize};
+
+/// Off-Belief Learning (docs/training.md): the value target of each of a seat's actions
+/// comes from a fictitious continuation in a world drawn from the seat's belief (of the
+/// previous level's play), the partners played by `partner`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct OblConfig {
+    /// 0: off (IPPO, HE, OP). 1: level 1, whose previous level is uniform random play and
+    /// whose belief is exact (uniform over the colourings consistent with the seat's
+    /// first-hand colours). 2 and up: the previous level is `previous`, and the belief a
+    /// model trained on its self-play when the run starts (`yokai train --levels` also
+    /// starts the level from the previous level's weights).
+    pub level: u32,
+    /// Levels ≥ 2: the previous level's policy (policy file, checkpoint or run directory;
+    /// for a directory of `seed-N` runs, seed N uses `seed-N`). A relative path is read
+    /// from the directory `yokai train` runs in.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub previous: Option<std::path::PathBuf>,
+    /// Levels ≥ 2: updates of the belief model on the previous level's self-play (16 games
+    /// × 16 steps each) before PPO starts; redone identically on resume.
+    pub belief_updates: u64,
+    /// Levels ≥ 2: width of the belief model's memory.
+    pub belief_hidden: usize,
+    /// A diagnostic, not OBL (level 1 only): every continuation runs in the true colours
+    /// instead of a draw from the belief. The continuation is then the real transition, so
+    /// this is self-play with OBL's one-step targets: what the learning machinery reaches
+    /// when the belief grounds nothing away.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub oracle: bool,
+    /// Who plays the partners' turns inside the fictitious continuations.
+    pub partner: OblPartner,
+    /// How many of the acting seat's own decisions a fictitious continuation covers before
+    /// it bootstraps from the learner's value. 1 (the reference implementation's one-step
+    /// target): the partners play until the seat is to act again. n > 1: the seat plays
+    /// its next n − 1 decisions in the fictitious world too (as the learner, with its memory
+    /// of that world), so the target is an n-decision return of the world drawn once from
+    /// the belief, as OBL's operator defines the value ("past by π_{ℓ−1}, future by π_ℓ");
+    /// the longer return carries credit further per update, as a GAE λ above 0 does for
+    /// IPPO. Needs `partner = "learner"`: in the operator, every future move is π_ℓ's.
+    pub decisions: u32,
+}
+
+impl Default for OblConfig {
+    fn default() -> Self {
+        OblConfig {
+            level: 0,
+            previous: None,
+            belief_updates: 300,
+            belief_hidden: 64,
+            oracle: false,
+            partner: OblPartner::Previous,
+            decisions: 1,
+        }
+    }
+}
+
+/// Who plays the partners inside OBL's fictitious continuations (`obl.partner`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum OblPartner {
+    /// The level below (uniformly random play at level 1, `obl.previous` above): the
+    /// project's training spec (docs/spec/training.md, row OBL).
+    #[default]
+    Previous,
+    /// The policy being learnt, as the reference implementation plays it (all actors of a
+    /// game share the learning network's runner, `pyhanabi/act_group.py`) and as OBL's
+    /// operator reads ("future actions will follow π_ℓ", the paper's §4).
+    Learner,
+}
+
+impl OblConfig {
+    /// The OBL section on its own.
+    pub(super) fn check(&self) -> Checked {
+        let o = self;
+        if o.level >= 2 && o.previous.is_none() {
+            return bad(
+                "obl.previous",
+                "is needed from level 2 on: the previous level's policy (its run directory)",
+            );
+        }
+        if o.oracle && o.level != 1 {
+            return bad(
+                "obl.oracle",
+                "is a level-1 diagnostic (the true colours in place of the exact belief)",
+            );
+        }
+        if o.level < 2 && o.previous.is_some() {
+            return bad(
+                "obl.previous",
+                "is read from level 2 on only (level 1's previous level is random play)",
+            );
+        }
+        if o.level >= 2 && (o.belief_updates == 0 || o.belief_hidden == 0) {
+            return bad(
+                "obl.belief_updates / obl.belief_hidden",
+                "must be at least 1",
+            );
+        }
+        if o.decisions == 0 {
+            return bad(
+                "obl.decisions",
+                "must be at least 1 (1: bootstrap where the seat acts again)",
+            );
+        }
+        if o.decisions > 1 && o.partner != OblPartner::Learner {
+            return bad(
+                "obl.decisions",
+                "above 1 has the learner play on after the seat's next decision, so the \
+                 partners must be the learner too: set obl.partner = \"learner\"",
+            );
+        }
+        Ok(())
+    }
+}

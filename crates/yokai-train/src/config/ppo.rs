@@ -1,0 +1,175 @@
+//! `[ppo]`: the PPO hyper-parameters and the add-ons' weights.
+
+use super::{bad, Checked};
+use serde::{Deserialize, Serialize};
+
+/// PPO hyper-parameters (the paper's Table of training details).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct PpoConfig {
+    /// Parallel games per rollout.
+    pub num_envs: usize,
+    /// Steps per rollout (and BPTT length: every game's sequence is kept whole).
+    pub rollout_steps: usize,
+    /// Total environment steps (one step = one action in each of `num_envs` games).
+    pub total_steps: u64,
+    /// Adam learning rate at the start; annealed linearly to 0 when `anneal_lr`.
+    pub lr: f64,
+    pub anneal_lr: bool,
+    pub adam_eps: f64,
+    pub gamma: f32,
+    pub gae_lambda: f32,
+    /// Policy-ratio clip ε.
+    pub clip: f32,
+    /// Clip of the value change from the rollout's value (the clipped value loss).
+    pub value_clip: f32,
+    pub value_coef: f32,
+    /// Entropy bonus α.
+    pub entropy_coef: f32,
+    /// Divide each row's entropy by the log of its number of legal actions before the
+    /// bonus, so a turn with 700 legal moves and one with 10 pull towards uniform with the
+    /// same strength (the raw masked entropy of a 700-way choice swamps the policy gradient;
+    /// docs/training.md). Off in the paper's presets.
+    pub entropy_normalized: bool,
+    /// Bonus on the entropy of the binary choice "END or not" wherever END is legal (the
+    /// first substep of a turn): keeps ending explored without pulling the hundreds of
+    /// MOVE logits towards uniform as `entropy_coef` does. END pays only when the board is
+    /// won, so PPO otherwise stops trying it in the first updates (docs/training.md).
+    /// 0 (the paper's presets) turns it off.
+    pub end_entropy_coef: f32,
+    /// Weight of an exact END term: wherever END is legal, the simulator knows what ending
+    /// now would pay (R of the true board, `Game::end_reward`), so the loss adds the
+    /// expected policy gradient of END, −π(END|s)·(R_END(s) − V(s)), at every such state,
+    /// not only where END was drawn. A centralised-training signal (the policy still acts
+    /// on its own view); 0 (the paper's presets) turns it off. Under OBL the board is the
+    /// fictitious one, recoloured by a draw from the acting seat's belief, so the term
+    /// values END as OBL's own target does and never reads the true colours.
+    pub end_lookahead: f32,
+    /// Which gradient `end_lookahead` adds (see [`EndForm`]); the paper's presets leave
+    /// `end_lookahead` at 0, where this does nothing.
+    pub end_lookahead_form: EndForm,
+    /// Weight of an auxiliary belief loss (pointer head only): from each card's embedding
+    /// the network predicts the card's true colour, by cross-entropy, at every state where
+    /// a seat chooses. The agent has to represent what it knows and what it can infer about
+    /// every card, which END (is every colour clustered?) and clustering moves depend on.
+    /// A centralised-training signal; 0 (every preset but `cpu`) turns it off and leaves
+    /// the network without the colour layer.
+    pub belief_aux: f32,
+    /// Global gradient-norm clip.
+    pub max_grad_norm: f32,
+    pub epochs: usize,
+    pub minibatches: usize,
+    /// Weight of the shaping reward at the start; annealed linearly to 0 over the first
+    /// `shaping_fraction` of the run.
+    pub shaping: f32,
+    /// Share of the run, in (0, 1], over which the shaping weight falls to 0 (1 = the whole
+    /// run, the paper's). The shaping pays for observing and hinting, so while it lasts
+    /// every value V(s) counts future shaping that ending forfeits, and END looks worse
+    /// than it is; a shorter anneal lets the late run value END by the game's reward alone.
+    pub shaping_fraction: f32,
+    /// Normalise advantages inside each minibatch (as JaxMARL's IPPO does).
+    pub normalize_advantages: bool,
+    /// Weight of a clustering shaping reward, annealed with `shaping`: each step that is
+    /// not an episode's last adds the change in the number of clustered colours (a
+    /// potential-based term, so it does not change which policies are optimal). The game's
+    /// own reward counts clustered colours only at the end, 32 steps later; this gives the
+    /// moves that cluster a signal of their own. 0 (the paper's presets) turns it off.
+    pub cluster_shaping: f32,
+}
+
+impl Default for PpoConfig {
+    fn default() -> Self {
+        PpoConfig {
+            num_envs: 1024,
+            rollout_steps: 128,
+            total_steps: 1_000_000_000,
+            lr: 3e-4,
+            anneal_lr: true,
+            adam_eps: 1e-5,
+            gamma: 0.99,
+            gae_lambda: 0.95,
+            clip: 0.2,
+            value_clip: 0.2,
+            value_coef: 0.5,
+            entropy_coef: 0.05,
+            entropy_normalized: false,
+            end_entropy_coef: 0.0,
+            end_lookahead: 0.0,
+            end_lookahead_form: EndForm::Expected,
+            belief_aux: 0.0,
+            max_grad_norm: 0.5,
+            epochs: 4,
+            minibatches: 4,
+            shaping: 1.0,
+            shaping_fraction: 1.0,
+            normalize_advantages: true,
+            cluster_shaping: 0.0,
+        }
+    }
+}
+
+impl PpoConfig {
+    /// The PPO section on its own, for a game of `players` seats.
+    pub(super) fn check(&self, players: usize) -> Checked {
+        let p = self;
+        if p.num_envs == 0 {
+            return bad("ppo.num_envs", "must be at least 1");
+        }
+        if p.rollout_steps == 0 {
+            return bad("ppo.rollout_steps", "must be at least 1");
+        }
+        if p.minibatches == 0 || p.minibatches > p.num_envs * players {
+            return bad(
+                "ppo.minibatches",
+                "must be between 1 and num_envs × players (minibatches split whole sequences)",
+            );
+        }
+        if p.epochs == 0 {
+            return bad("ppo.epochs", "must be at least 1");
+        }
+        if !(p.lr > 0.0 && p.lr.is_finite()) {
+            return bad("ppo.lr", "must be a positive number");
+        }
+        if !(0.0..=1.0).contains(&p.gamma) || !(0.0..=1.0).contains(&p.gae_lambda) {
+            return bad("ppo.gamma / ppo.gae_lambda", "must lie in [0, 1]");
+        }
+        if p.clip <= 0.0 || p.value_clip <= 0.0 || p.max_grad_norm <= 0.0 {
+            return bad(
+                "ppo.clip / ppo.value_clip / ppo.max_grad_norm",
+                "must be positive",
+            );
+        }
+        if !(p.shaping_fraction > 0.0 && p.shaping_fraction <= 1.0) {
+            return bad("ppo.shaping_fraction", "must lie in (0, 1]");
+        }
+        // Weights of optional terms: 0 turns a term off, and none may be negative.
+        for (field, weight) in [
+            ("ppo.end_lookahead", p.end_lookahead),
+            ("ppo.end_entropy_coef", p.end_entropy_coef),
+            ("ppo.cluster_shaping", p.cluster_shaping),
+            ("ppo.belief_aux", p.belief_aux),
+        ] {
+            if !(weight >= 0.0 && weight.is_finite()) {
+                return bad(field, "must be a number ≥ 0");
+            }
+        }
+        Ok(())
+    }
+}
+
+/// How `ppo.end_lookahead` turns "what END would pay" into a gradient on the END logit.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum EndForm {
+    /// The expected policy gradient of END, −π(END|s)·(R_END(s) − V(s)). Its gradient on the
+    /// END logit carries a factor π(END)(1 − π(END)), so it fades once P(END) is tiny.
+    #[default]
+    Expected,
+    /// A cross-entropy pulling P(END) towards σ((R_END(s) − V(s)) / ¼ point): about 1 where
+    /// ending pays a point or more beyond playing on, about 0 where it costs as much. Its
+    /// gradient on the END log-odds, σ(…) − P(END), does not fade with P(END), and it is at
+    /// most 1 per state whatever the size of the advantage, so it never outweighs the rest
+    /// of the loss. Under partial observability P(END | history) settles at the mean target
+    /// over the boards the history allows: the agent ends when it is likely to pay.
+    Target,
+}
