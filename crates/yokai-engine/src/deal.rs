@@ -63,9 +63,11 @@ pub fn derive_seed(base: u64, stream: u64) -> u64 {
     z ^ (z >> 31)
 }
 
-/// Uniform integer in `0..n` (`n ≥ 1`), unbiased (Lemire 2019).
+/// Uniform integer in `0..n` (`n ≥ 1`), unbiased (Lemire 2019): `next_u64() % n` is not
+/// (it favours small values whenever n does not divide 2⁶⁴). Every random choice of the
+/// workspace among n things draws with this.
 #[inline]
-fn below(rng: &mut ChaCha8Rng, n: u32) -> u32 {
+pub fn below(rng: &mut ChaCha8Rng, n: u32) -> u32 {
     debug_assert!(n > 0);
     let threshold = n.wrapping_neg() % n;
     loop {
@@ -77,7 +79,7 @@ fn below(rng: &mut ChaCha8Rng, n: u32) -> u32 {
 }
 
 /// Fisher–Yates shuffle with [`below`].
-fn shuffle<T>(rng: &mut ChaCha8Rng, items: &mut [T]) {
+pub fn shuffle<T>(rng: &mut ChaCha8Rng, items: &mut [T]) {
     for i in (1..items.len()).rev() {
         let j = below(rng, i as u32 + 1) as usize;
         items.swap(i, j);

@@ -7,7 +7,6 @@
 //! the partners play their turns first (1 + 4·(P − 1) steps). The paper's K = 4·P bounds
 //! this (per decision) and is kept as a limit; with the rules as they are it never binds.
 
-use rand_chacha::rand_core::Rng;
 use rand_chacha::ChaCha8Rng;
 use yokai_engine::{ActionError, Colour, DealError, Game};
 
@@ -124,7 +123,7 @@ pub fn continue_all(
 /// π₀, the level below level 1: a uniformly random legal action index of the acting seat.
 pub fn random_legal(game: &Game, rng: &mut ChaCha8Rng) -> usize {
     let legal = game.legal_actions(game.current_seat());
-    let pick = (rng.next_u64() % legal.len() as u64) as usize;
+    let pick = yokai_engine::deal::below(rng, legal.len() as u32) as usize;
     game.config().encode(legal[pick])
 }
 
@@ -318,7 +317,7 @@ mod tests {
                 }
                 let mut legal = g.legal_actions(g.current_seat());
                 legal.retain(|&a| a != Action::End);
-                let a = legal[(rng.next_u64() % legal.len() as u64) as usize];
+                let a = legal[yokai_engine::deal::below(&mut rng, legal.len() as u32) as usize];
                 g.apply(a).unwrap();
             }
             if !g.is_over() {

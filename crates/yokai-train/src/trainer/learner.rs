@@ -14,8 +14,8 @@ use burn::module::{Module, ModuleMapper, ModuleVisitor, Param};
 use burn::optim::{GradientsAccumulator, GradientsParams};
 use burn::prelude::*;
 use burn::tensor::TensorData;
-use rand_chacha::rand_core::Rng;
 use rand_chacha::ChaCha8Rng;
+use yokai_engine::deal::shuffle;
 use yokai_engine::Action;
 
 /// What the epochs of one update report (means over minibatches).
@@ -47,10 +47,7 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         let mut count = 0u64;
         let mut order: Vec<usize> = (0..rows).collect();
         for _ in 0..c.epochs {
-            for i in (1..rows).rev() {
-                let j = (rng.next_u64() % (i as u64 + 1)) as usize;
-                order.swap(i, j);
-            }
+            shuffle(rng, &mut order);
             for k in 0..c.minibatches {
                 let end = if k + 1 == c.minibatches {
                     rows
