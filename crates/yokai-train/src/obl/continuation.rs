@@ -188,7 +188,13 @@ mod tests {
         let mut game = Game::new(config, 4);
         let truth = game.deal().card_colours;
         let mut partner_rng = ChaCha8Rng::seed_from_u64(2);
-        let mut pi0 = uniform_random(&mut partner_rng);
+        // A random partner that never ENDs, so that its whole turn is played.
+        let mut pi0 = |g: &Game| {
+            let mut legal = g.legal_actions(g.current_seat());
+            legal.retain(|&a| a != Action::End);
+            let pick = yokai_engine::deal::below(&mut partner_rng, legal.len() as u32);
+            g.config().encode(legal[pick as usize])
+        };
         for substep in 0..4 {
             // Seat 0's first legal action other than END, so that the game goes on.
             let action = game
