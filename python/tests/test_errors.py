@@ -46,12 +46,23 @@ def test_illegal_action_in_a_batch_names_env_and_reason_and_changes_nothing():
     venv = yokai.VecEnv(num_envs=3, seed=0)
     out = venv.reset()
     before = out["obs"].copy()
+    masks = out["legal_mask"].copy()
+    boards = [venv.render(i) for i in range(3)]
     actions = venv.sample_actions(0).astype(np.int64)
     move = yokai.Env().action_index("move card 4 to r0c0")
     actions[2] = move  # substep 0: MOVE is not allowed
     with pytest.raises(yokai.IllegalActionError, match=r"env 2: seat 0 cannot play `move card 4 to r0c0`: substep 0"):
         venv.step(actions)
-    np.testing.assert_array_equal(venv.step(venv.sample_actions(0))["obs"].shape, before.shape)
+    # Nothing moved, in env 2 or the legal envs 0 and 1 (the arrays are live views of the
+    # environment's buffers): the same observations, masks and boards, and the next legal
+    # step plays as in a twin that never saw the refusal.
+    np.testing.assert_array_equal(out["obs"], before)
+    np.testing.assert_array_equal(out["legal_mask"], masks)
+    assert [venv.render(i) for i in range(3)] == boards
+    twin = yokai.VecEnv(num_envs=3, seed=0)
+    twin.reset()
+    legal = venv.sample_actions(0)
+    np.testing.assert_array_equal(venv.step(legal)["obs"], twin.step(legal)["obs"])
 
 
 def test_waiting_seat_must_play_noop():

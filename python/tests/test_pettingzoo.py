@@ -21,24 +21,38 @@ def test_aec_api():
 
 
 def test_observations_lie_in_their_spaces_and_rewards_are_shared():
-    env = zoo.parallel_env(config="9c-2p-perfect", dtype="uint8", shaping=True, render_mode="ansi")
-    obs, infos = env.reset(seed=3)
+    # Twin games, the same seed and actions, with and without shaping.
+    shaped = zoo.parallel_env(config="9c-2p-perfect", dtype="uint8", shaping=True, render_mode="ansi")
+    plain = zoo.parallel_env(config="9c-2p-perfect", dtype="uint8")
+    obs, infos = shaped.reset(seed=3)
+    plain_obs, _ = plain.reset(seed=3)
     rng = np.random.default_rng(0)
-    total = 0.0
-    while env.agents:
-        for agent in env.agents:
-            assert env.observation_space(agent).contains(obs[agent])
+    shaped_steps, plain_steps = [], []
+    while shaped.agents:
+        for agent in shaped.agents:
+            assert shaped.observation_space(agent).contains(obs[agent])
+            np.testing.assert_array_equal(obs[agent]["observation"], plain_obs[agent]["observation"])
         actions = {
-            agent: env.action_space(agent).sample(mask=obs[agent]["action_mask"])
-            for agent in env.agents
+            agent: shaped.action_space(agent).sample(mask=obs[agent]["action_mask"])
+            for agent in shaped.agents
         }
-        obs, rewards, terms, truncs, infos = env.step(actions)
-        assert len(set(rewards.values())) == 1
-        total += rewards["seat_0"]
-    assert "outcome" in infos["seat_0"]
-    # With shaping on, the team return is R plus the shaping of every step.
-    assert isinstance(env.render(), str)
-    assert env.game.done
+        obs, rewards, terms, truncs, infos = shaped.step(actions)
+        plain_obs, plain_rewards, _, _, plain_infos = plain.step(actions)
+        # Every seat gets the team's reward.
+        assert len(set(rewards.values())) == 1 and len(set(plain_rewards.values())) == 1
+        shaped_steps.append(rewards["seat_0"])
+        plain_steps.append(plain_rewards["seat_0"])
+    outcome = infos["seat_0"]["outcome"]
+    assert plain_infos["seat_0"]["outcome"] == outcome
+    # Without shaping the team return is R, paid on the final step alone.
+    assert plain_steps[:-1] == [0.0] * (len(plain_steps) - 1)
+    assert plain_steps[-1] == outcome["reward"]
+    # With shaping it is R plus the shaping of every step, which pays for observing and
+    # hinting: never negative, and something over a whole game.
+    extra = np.array(shaped_steps) - np.array(plain_steps)
+    assert (extra >= 0).all() and extra.sum() > 0, extra
+    assert isinstance(shaped.render(), str)
+    assert shaped.game.done
 
 
 def test_acting_seat_needs_an_action():
