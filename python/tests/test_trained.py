@@ -47,18 +47,30 @@ def run_dir(tmp_path_factory):
     return out / "seed-0"
 
 
+def games_of(policy, partner="random", seeds=range(5)):
+    """The replays of games of ``policy`` (a name or path) in seat 0 beside ``partner``."""
+    return [yokai.play("9c-2p-perfect", [policy, partner], seed=s, agent_seed=s).to_replay() for s in seeds]
+
+
 def test_a_trained_policy_plays_whole_games(run_dir):
     agent = yokai.Agent(str(run_dir), seed=1)
     assert agent.name == str(run_dir)
-    for seed in range(5):
-        env = yokai.play("9c-2p-perfect", [agent, yokai.Agent("random", seed)], seed=seed)
-        assert env.done and env.outcome is not None
+    replays = games_of(str(run_dir))
+    assert all(yokai.Env.from_replay(r).done for r in replays)
+    # Seated with the same seeds it plays the same games. (This barely trained network is
+    # near uniform: with the same draws it plays the very games `random` plays.)
+    assert games_of(str(run_dir)) == replays
 
 
-def test_the_policy_file_and_checkpoint_load_too(run_dir):
+def test_the_run_directory_policy_file_and_checkpoint_play_identical_games(run_dir):
+    """The three forms of a trained run hold the same network and END rule."""
+    want = games_of(str(run_dir), partner="belief")
     for name in ("policy.ykp", "checkpoint.ykc"):
-        env = yokai.play("9c-2p-perfect", [str(run_dir / name), "belief"], seed=3)
-        assert env.done
+        assert games_of(str(run_dir / name), partner="belief") == want, name
+    np.testing.assert_array_equal(
+        yokai.policy_parameters(str(run_dir / "policy.ykp")),
+        yokai.policy_parameters(str(run_dir / "checkpoint.ykc")),
+    )
 
 
 def test_another_game_and_broken_files_are_clear_errors(run_dir, tmp_path):
@@ -93,10 +105,10 @@ def test_ablation_networks_load_and_play(network, tmp_path):
         check=True,
         capture_output=True,
     )
-    agent = yokai.Agent(str(out / "seed-0"), seed=2)
-    for seed in range(3):
-        env = yokai.play("9c-2p-perfect", [agent, yokai.Agent("greedy", seed)], seed=seed)
-        assert env.done and env.outcome is not None
+    run = out / "seed-0"
+    replays = games_of(str(run), partner="greedy", seeds=range(3))
+    assert all(yokai.Env.from_replay(r).done for r in replays)
+    assert games_of(str(run / "policy.ykp"), partner="greedy", seeds=range(3)) == replays
 
 
 def test_an_export_holds_the_networks_weights_and_what_rebuilds_its_inputs(run_dir, tmp_path):
