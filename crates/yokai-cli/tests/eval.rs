@@ -53,3 +53,72 @@ fn bad_policies_are_clear_errors() {
         "{err}"
     );
 }
+
+/// The tables `yokai eval` writes are the library's cross-play, number for number, and the
+/// bots score as docs/bots.md documents them (9c-2p perfect: random R −3.99, greedy R 0.51
+/// and never an early END).
+#[test]
+fn the_tables_hold_the_library_cross_play_and_the_documented_scores() {
+    use yokai_agents::eval::{cross_play, PolicyFactory};
+    use yokai_agents::PolicySpec;
+    let tmp = tempfile::Builder::new()
+        .prefix("yokai-eval-")
+        .tempdir()
+        .unwrap();
+    let dir = tmp.path();
+    let (games, seed) = (2000u64, 5u64);
+    yokai_ok(&[
+        "eval",
+        "random",
+        "greedy",
+        "--games",
+        &games.to_string(),
+        "--seed",
+        &seed.to_string(),
+        "--replays",
+        "2",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("matrix.json")).unwrap()).unwrap();
+    let config = yokai_engine::Config::resolve("9c-2p-perfect").unwrap();
+    let specs = [PolicySpec::Random, PolicySpec::Greedy];
+    let makers: Vec<Box<PolicyFactory<'_>>> = specs
+        .iter()
+        .map(|s| Box::new(move |seed| s.build(seed)) as Box<PolicyFactory<'_>>)
+        .collect();
+    let policies: Vec<&PolicyFactory<'_>> = makers.iter().map(|m| m.as_ref()).collect();
+    let want = cross_play(config, &policies, games, seed, &|_| {}).unwrap();
+    let rows = json.as_array().unwrap();
+    assert_eq!(rows.len(), want.len());
+    for (row, w) in rows.iter().zip(&want) {
+        let names = ["random", "greedy"];
+        assert_eq!(row["row"], names[w.row]);
+        assert_eq!(row["col"], names[w.col]);
+        assert_eq!(row["metrics"], serde_json::to_value(w.metrics).unwrap());
+    }
+    let (random, greedy) = (&want[0].metrics, &want[2].metrics);
+    assert!(
+        (random.reward + 3.99).abs() < 4.0 * random.reward_se,
+        "{random:?}"
+    );
+    assert!(
+        (greedy.reward - 0.51).abs() < 4.0 * greedy.reward_se,
+        "{greedy:?}"
+    );
+    assert_eq!(greedy.early_end, 0.0);
+    // The replays it saved read back, replay to their recorded outcome, and name the seats.
+    for pair in ["0-0", "0-1", "1-1"] {
+        for k in 0..2 {
+            let path = dir.join("replays").join(format!("{pair}-game{k}.jsonl"));
+            let text = std::fs::read_to_string(&path).unwrap();
+            let replay = yokai_engine::Replay::from_jsonl(&text)
+                .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+            let game = replay.record().replay().unwrap();
+            assert_eq!(game.outcome(), replay.outcome, "{}", path.display());
+            assert!(game.is_over());
+            assert_eq!(replay.header.seats.len(), 2);
+        }
+    }
+}
