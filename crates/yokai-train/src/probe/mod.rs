@@ -261,6 +261,27 @@ mod tests {
         assert!(!r.is_empty());
         assert_eq!(r.states.len(), r.len() * 16);
         assert_eq!(r.colours.len(), r.len() * game.cards());
+        let y = game.cards();
+        // Rows come step by step, the games of a batch side by side: each episode's rows
+        // count its steps from 0, one by one.
+        let mut next_step = std::collections::HashMap::new();
+        for i in 0..r.len() {
+            let episode = r.episodes[i];
+            let deal = Game::new(game, derive_seed(0, episode as u64));
+            let colours: Vec<u8> = deal.deal().card_colours.iter().map(|c| c.0).collect();
+            assert_eq!(&r.colours[i * y..][..y], &colours[..], "row {i}");
+            let step = next_step.entry(episode).or_insert(0u16);
+            assert_eq!(r.steps[i], *step, "row {i}");
+            *step += 1;
+            // At the first state nothing is seen, and the memory is the wide network's
+            // first step from zero on seat 1's view of the deal.
+            if r.steps[i] == 0 {
+                assert!(r.seen[i].is_empty(), "row {i}");
+                let want = wide.step_seats(&[(&deal, Seat(1))], vec![0.0; 16], vec![0.0]);
+                assert_eq!(&r.states[i * 16..][..16], &want.states[..], "row {i}");
+            }
+        }
+        assert_eq!(r.steps.iter().filter(|&&s| s == 0).count(), 3, "3 games");
     }
 
     /// The oracle knows seen cards and otherwise names the colour with most cards left.
