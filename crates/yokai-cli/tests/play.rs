@@ -521,13 +521,16 @@ fn probe_trained_runs() {
         .any(|r| r[1].starts_with("with ") && r[3] == "all"));
     for r in &rows {
         let (acc, oracle): (f64, f64) = (r[4].parse().unwrap(), r[5].parse().unwrap());
-        assert!(
-            (0.0..=1.0).contains(&acc) && (0.0..=1.0).contains(&oracle),
-            "{r:?}"
-        );
+        let rows: f64 = r[6].parse().unwrap();
+        assert!(rows > 0.0, "{r:?}");
         if r[2] == "0" && r[3] == "all" {
-            // Nothing is seen at the first state: the oracle names one colour for all.
+            // Nothing is seen at the first state: the oracle names one colour for all, which
+            // is right for exactly a third of a game's cards, and the memory knows no more,
+            // so the probe's held-out accuracy is chance up to sampling noise (5 SD of
+            // 9 · rows guesses at 1/3).
             assert!((oracle - 1.0 / 3.0).abs() < 1e-3, "{r:?}");
+            let sd = (2.0 / 9.0 / (9.0 * rows)).sqrt();
+            assert!((acc - 1.0 / 3.0).abs() < 5.0 * sd, "{r:?}: sd {sd}");
         }
     }
     for file in ["probe.json", "probe.svg", "probe.png"] {
