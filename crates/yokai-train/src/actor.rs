@@ -159,12 +159,11 @@ impl Actor {
             .apply_action_index(&self.game, view_action)
     }
 
-    /// Step every game with the rows' true-frame actions `joint`. A game that ends is
-    /// dealt again (its seats draw new symmetries); the last finished game of env 0 is
-    /// kept as a replay.
-    pub fn step(&mut self, joint: &[u32]) -> Result<(), yokai_vec::VecError> {
+    /// Step every game with the rows' true-frame actions `joint`, `acting[i]` the seat
+    /// that acts in game `i` (as read before the step). A game that ends is dealt again
+    /// (its seats draw new symmetries); the last finished game of env 0 is kept as a replay.
+    pub fn step(&mut self, joint: &[u32], acting: &[u8]) -> Result<(), yokai_vec::VecError> {
         let p = self.game.players();
-        let acting = self.env.acting_seats().to_vec();
         self.env.step_joint(joint)?;
         for (i, &seat) in acting.iter().enumerate() {
             let action = joint[i * p + seat as usize];

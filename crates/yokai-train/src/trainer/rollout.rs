@@ -126,7 +126,7 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
                 column.record(t, &acting, (masks, na, end), game);
             }
             // Step the games, then read what the step paid.
-            self.actor.step(&joint)?;
+            self.actor.step(&joint, &acting)?;
             self.tally_rewards(t, shaping, &mut kept, cluster.as_mut(), &mut ro.games);
         }
         ro.entropy = if entropy.1 > 0 {
