@@ -108,7 +108,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .build()
         .context("cannot start the server's runtime")?;
     runtime.block_on(async move {
-        let listener = tokio::net::TcpListener::bind((args.host.as_str(), args.port))
+        let listener = listen(&args.host, args.port)
             .await
             .with_context(|| format!("cannot listen on {}:{}", args.host, args.port))?;
         let address = listener.local_addr()?;
@@ -125,6 +125,44 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             .await
             .context("the server stopped")
     })
+}
+
+/// How many connections the kernel may hold waiting for `accept` (capped by
+/// `net.core.somaxconn`). Tokio's `bind` asks for 128, the standard library's value: when a
+/// study's browsers (or the load test's 500 clients) connect at once while the server's two
+/// cores are busy, the queue overflows and, with SYN cookies on, the kernel answers the
+/// overflowing connections' first request with a reset.
+const ACCEPT_BACKLOG: u32 = 4096;
+
+/// A listener on the first address `host` resolves to that accepts, with room for
+/// [`ACCEPT_BACKLOG`] connections waiting.
+async fn listen(host: &str, port: u16) -> std::io::Result<tokio::net::TcpListener> {
+    let mut last = None;
+    for address in tokio::net::lookup_host((host, port)).await? {
+        let socket = if address.is_ipv4() {
+            tokio::net::TcpSocket::new_v4()?
+        } else {
+            tokio::net::TcpSocket::new_v6()?
+        };
+        // As tokio's `bind`: a restarted server can listen again at once (not on Windows,
+        // where the option lets another process take the port).
+        if cfg!(not(windows)) {
+            socket.set_reuseaddr(true)?;
+        }
+        match socket
+            .bind(address)
+            .and_then(|()| socket.listen(ACCEPT_BACKLOG))
+        {
+            Ok(listener) => return Ok(listener),
+            Err(e) => last = Some(e),
+        }
+    }
+    Err(last.unwrap_or_else(|| {
+        std::io::Error::new(
+            std::io::ErrorKind::NotFound,
+            "the host resolves to no address",
+        )
+    }))
 }
 
 /// The page and the API over `tables`.
