@@ -42,7 +42,7 @@ fn main() {
         let v: Vec<f32> = lp.into_data().convert::<f32>().try_into_vec().unwrap();
         let p_end: f32 = (0..n).map(|i| v[i * na + end].exp()).sum::<f32>() / n as f32;
         let val: Vec<f32> = net
-            .values(state)
+            .values(state, None)
             .into_data()
             .convert::<f32>()
             .try_into_vec()

@@ -143,6 +143,21 @@ impl Actor {
         }
     }
 
+    /// Every row's [`Actor::view_truth`] one-hot over the colours: `[rows × Y·C]`, what a
+    /// central critic reads.
+    pub fn colour_one_hots(&self) -> Vec<f32> {
+        let (y, c) = (self.game.cards(), self.game.colours());
+        let mut colours = vec![0u8; y];
+        let mut out = vec![0f32; self.rows() * y * c];
+        for (r, row) in out.chunks_exact_mut(y * c).enumerate() {
+            self.view_truth(r, &mut colours);
+            for (card, &colour) in colours.iter().enumerate() {
+                row[card * c + colour as usize] = 1.0;
+            }
+        }
+        out
+    }
+
     /// Per row: 0 where the row's next step starts an episode (its game has no step yet),
     /// which zeroes that row's recurrent state, else 1.
     pub fn keeps(&self) -> Vec<f32> {

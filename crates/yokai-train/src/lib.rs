@@ -41,8 +41,8 @@ pub mod run;
 pub use artifact::{Container, FileHeader};
 pub use backend::{Backend, BackendError};
 pub use config::{
-    ActionHead, EncoderKind, EndForm, MemoryKind, NetworkPreset, OblPartner, SymmetrySet,
-    TrainConfig, TrainConfigError,
+    ActionHead, CriticInput, EncoderKind, EndForm, MemoryKind, NetworkPreset, OblPartner,
+    SymmetrySet, TrainConfig, TrainConfigError,
 };
 pub use device::default_device;
 pub use error::{FileError, TrainError};

@@ -6,8 +6,8 @@ use yokai_agents::Policy;
 use yokai_engine::Part;
 use yokai_train::Container;
 use yokai_train::{
-    read_metrics, train_run, EncoderKind, EndForm, MlpEncoder, RunRequest, SymmetrySet,
-    TrainConfig, TrainError, TrainedPolicy, Trainer,
+    read_metrics, train_run, CriticInput, EncoderKind, EndForm, MlpEncoder, RunRequest,
+    SymmetrySet, TrainConfig, TrainError, TrainedPolicy, Trainer,
 };
 
 fn tiny(symmetries: SymmetrySet, updates: u64) -> TrainConfig {
@@ -128,6 +128,45 @@ fn same_seed_same_weights_and_the_value_loss_falls() {
     );
 }
 
+/// A central critic reads every card's true colour besides the memory: its values move
+/// when only the colours do, where a local critic's cannot read them at all.
+#[test]
+fn a_central_critic_reads_the_colours_and_a_local_one_does_not() {
+    let d = yokai_train::default_device();
+    let mut c = tiny(SymmetrySet::None, 1);
+    let game = c.game_config().unwrap();
+    let (y, colours) = (game.cards(), game.colours());
+    let one_hot = |shift: usize| -> Vec<f32> {
+        let mut t = vec![0f32; 4 * y * colours];
+        for (i, row) in t.chunks_exact_mut(y * colours).enumerate() {
+            for card in 0..y {
+                row[card * colours + (card + i + shift) % colours] = 1.0;
+            }
+        }
+        t
+    };
+    let states: Vec<f32> = (0..4 * 16).map(|i| (i as f32 * 0.37).sin()).collect();
+    let local = yokai_train::ActorCritic::<MlpEncoder, yokai_train::GruCell>::new(&c, &game, 1, &d);
+    assert!(!local.critic_is_central());
+    assert_eq!(
+        local.values_of(&states, &one_hot(0), &d),
+        local.values_of(&states, &one_hot(1), &d)
+    );
+    c.network.critic = CriticInput::Central;
+    let central =
+        yokai_train::ActorCritic::<MlpEncoder, yokai_train::GruCell>::new(&c, &game, 1, &d);
+    assert!(central.critic_is_central());
+    let (a, b) = (
+        central.values_of(&states, &one_hot(0), &d),
+        central.values_of(&states, &one_hot(1), &d),
+    );
+    assert_eq!(a.len(), 4);
+    assert!(
+        a.iter().zip(&b).all(|(x, y)| (x - y).abs() > 1e-6),
+        "other colours, other values: {a:?} {b:?}"
+    );
+}
+
 /// On the CPU a minibatch learns in one shard per worker thread, each with its own graph,
 /// and the shards' gradients are added: the step is the one-shard step up to float
 /// rounding, with every loss term on (pointer head, colour loss, END terms, normalised
@@ -142,6 +181,7 @@ fn sharded_learning_takes_the_one_shard_step() {
     config.ppo.end_lookahead = 0.5;
     config.ppo.end_entropy_coef = 0.01;
     config.ppo.entropy_normalized = true;
+    config.network.critic = CriticInput::Central;
     let run = |threads: usize| {
         let config = config.clone();
         rayon::ThreadPoolBuilder::new()

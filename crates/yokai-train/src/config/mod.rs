@@ -17,7 +17,9 @@ mod run;
 
 pub use act::ActConfig;
 pub use algorithm::{AlgorithmConfig, SymmetrySet};
-pub use network::{ActionHead, EncoderKind, MemoryKind, NetworkConfig, NetworkPreset, GRAPH_HEADS};
+pub use network::{
+    ActionHead, CriticInput, EncoderKind, MemoryKind, NetworkConfig, NetworkPreset, GRAPH_HEADS,
+};
 pub use obl::{OblConfig, OblPartner};
 pub use ppo::{EndForm, PpoConfig};
 pub use run::RunConfig;
@@ -161,6 +163,13 @@ impl TrainConfig {
                 return bad(
                     "ppo.cluster_shaping",
                     "is not paid in OBL's fictitious continuations: set it to 0",
+                );
+            }
+            if n.critic == CriticInput::Central {
+                return bad(
+                    "network.critic",
+                    "OBL's value targets come from fictitious continuations, whose colours \
+                     the seat's belief drew: set it to \"local\"",
                 );
             }
         }
@@ -314,6 +323,10 @@ mod tests {
             "x",
         );
         assert!(e.contains("obl.level") && e.contains("symmetries"), "{e}");
+        let e = refused("[network]\ncritic = \"central\"\n[obl]\nlevel = 1\n", "x");
+        assert!(e.contains("network.critic") && e.contains("local"), "{e}");
+        let e = refused("[network]\ncritic = \"oracle\"\n", "x");
+        assert!(e.contains("oracle") && e.contains("central"), "{e}");
         // Under OBL the END term reads the world drawn from the belief (trainer/addons/end.rs).
         assert!(
             TrainConfig::from_toml_str("[ppo]\nend_lookahead = 0.5\n[obl]\nlevel = 1\n", "x")

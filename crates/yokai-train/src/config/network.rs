@@ -35,6 +35,9 @@ pub struct NetworkConfig {
     pub actor_gain: f64,
     /// Orthogonal-init gain of the critic head.
     pub critic_gain: f64,
+    /// What the critic reads: `local` (the seat's memory, as the actor; the paper's) or
+    /// `central` (also every card's true colour, in training only).
+    pub critic: CriticInput,
 }
 
 impl Default for NetworkConfig {
@@ -55,6 +58,7 @@ impl Default for NetworkConfig {
             filters: 64,
             actor_gain: 0.01,
             critic_gain: 1.0,
+            critic: CriticInput::Local,
         }
     }
 }
@@ -193,4 +197,22 @@ pub enum ActionHead {
     /// Logits of OBSERVE, MOVE and PLACE scored from per-card and per-hint embeddings
     /// (`network/pointer.rs`); compact network only.
     Pointer,
+}
+
+/// What the critic reads (`network.critic`). The critic only ever serves training (a
+/// policy acts with the actor alone), so it may read what no seat sees: a centralised
+/// critic, as in MAPPO. Why: a seat's return hangs on colours it has not seen, so a critic
+/// that reads the seat's memory alone explains little of it (explained variance 0.03-0.09
+/// after the shaping is annealed in `cpu-fast`), and advantages measured against it are
+/// mostly noise. A baseline that also depends on the true colours (fixed for the whole
+/// deal, never on the seat's action) leaves the policy gradient unbiased.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum CriticInput {
+    /// The seat's memory state (the paper's).
+    #[default]
+    Local,
+    /// The memory state and every card's true colour (one-hot, in the seat's colour
+    /// labels), through one more layer of the memory's width with a ReLU.
+    Central,
 }

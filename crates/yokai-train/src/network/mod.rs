@@ -16,7 +16,7 @@ pub use pointer::PointerHead;
 pub use public_private::PublicPrivateEncoder;
 pub use trxl::TransformerXl;
 
-use crate::config::{ActionHead, EncoderKind, MemoryKind, NetworkConfig, TrainConfig};
+use crate::config::{ActionHead, CriticInput, EncoderKind, MemoryKind, NetworkConfig, TrainConfig};
 use crate::init::Init;
 use burn::module::Module;
 use burn::nn::conv::Conv2d;
@@ -255,6 +255,9 @@ impl Recurrent for GruCell {
 /// The actor is one of two heads (`network.head`): `actor`, a dense layer over the state
 /// (the paper's), or `pointer`, which also reads the observation's per-card features
 /// ([`PointerHead`]). Exactly one of them is present.
+///
+/// The critic reads the memory's output, and with `network.critic = "central"` also every
+/// card's true colour through the `central` layer first ([`CriticInput`]).
 #[derive(Module, Debug)]
 pub struct ActorCritic<E: Encoder, M: Recurrent> {
     encoder: E,
@@ -262,6 +265,7 @@ pub struct ActorCritic<E: Encoder, M: Recurrent> {
     gru: M,
     actor: Option<Linear>,
     pointer: Option<PointerHead>,
+    central: Option<Linear>,
     critic: Linear,
     #[module(skip)]
     hidden: usize,
@@ -334,6 +338,10 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
                     device,
                 )
             }),
+            central: (config.network.critic == CriticInput::Central).then(|| {
+                let truth = game.cards() * game.colours();
+                init.linear(out + truth, out, sqrt2, device)
+            }),
             critic: init.linear(out, 1, config.network.critic_gain, device),
             hidden: gru.size(),
             gru,
@@ -399,8 +407,9 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
     }
 
     /// One step of acting for `B` rows, on flat buffers: observations `[B, L]`, states
-    /// `[B, H]`, `keep` `[B]` as in [`ActorCritic::step`]. Returns every row's value and new
-    /// state, and the action logits of the rows `choosing` (ascending), as
+    /// `[B, H]`, `keep` `[B]` as in [`ActorCritic::step`]. Returns every row's value (none
+    /// with a central critic, which reads what the caller holds: [`ActorCritic::values`])
+    /// and new state, and the action logits of the rows `choosing` (ascending), as
     /// [`ActorCritic::logits_of_rows`] gives them.
     ///
     /// The rows are cut into `shards` contiguous parts that run side by side on rayon's
@@ -507,7 +516,10 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
             tensor2(keep.to_vec(), [rows, 1], device),
         );
         Acted {
-            values: to_vec(self.values(h.clone())),
+            values: match self.central {
+                None => to_vec(self.values(h.clone(), None)),
+                Some(_) => Vec::new(),
+            },
             logits: self.logits_of_rows(obs, h.clone(), choosing),
             states: to_vec(h),
         }
@@ -531,9 +543,37 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
         self.pointer.is_some()
     }
 
-    /// State values `[rows]` from memory states.
-    pub fn values(&self, states: Tensor<2>) -> Tensor<1> {
-        self.critic.forward(self.gru.output(states)).squeeze_dim(1)
+    /// Whether the critic reads the true colours ([`CriticInput::Central`]).
+    pub fn critic_is_central(&self) -> bool {
+        self.central.is_some()
+    }
+
+    /// State values `[rows]` from memory states `[rows, H]`, and with a central critic
+    /// every row's true colours `truth` (`[rows, Y·C]` one-hot, as
+    /// [`crate::actor::Actor::colour_one_hots`] writes them; `None` for a local critic,
+    /// which ignores it).
+    ///
+    /// # Panics
+    /// With a central critic and no `truth`: the trainer always passes it.
+    pub fn values(&self, states: Tensor<2>, truth: Option<Tensor<2>>) -> Tensor<1> {
+        let x = self.gru.output(states);
+        let x = match &self.central {
+            None => x,
+            Some(central) => {
+                let truth = truth.expect("a central critic reads the true colours");
+                relu(central.forward(Tensor::cat(vec![x, truth], 1)))
+            }
+        };
+        self.critic.forward(x).squeeze_dim(1)
+    }
+
+    /// [`ActorCritic::values`] on flat buffers: states `[rows × H]`, truth `[rows × Y·C]`.
+    pub fn values_of(&self, states: &[f32], truth: &[f32], device: &Device) -> Vec<f32> {
+        use crate::tensor::{tensor2, to_vec};
+        let rows = states.len() / self.hidden;
+        let truth = tensor2(truth.to_vec(), [rows, truth.len() / rows.max(1)], device);
+        let states = tensor2(states.to_vec(), [rows, self.hidden], device);
+        to_vec(self.values(states, self.central.as_ref().map(|_| truth)))
     }
 
     /// Unroll `T` steps for `B` sequences: observations `[B, T, L]`, initial states

@@ -251,7 +251,10 @@ impl<E: Encoder, M: Recurrent> StepInputs<'_, E, M> {
                 .iter()
                 .flat_map(|&k| states[k].iter().copied())
                 .collect();
-            to_vec(self.net.values(tensor2(h, [open.len(), hsz], self.device)))
+            to_vec(
+                self.net
+                    .values(tensor2(h, [open.len(), hsz], self.device), None),
+            )
         };
         let mut targets: Vec<(usize, f32)> =
             runs.iter().map(|(row, _, c)| (*row, c.reward)).collect();

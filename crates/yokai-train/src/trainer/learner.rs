@@ -190,8 +190,12 @@ impl ShardJob<'_> {
             tensor2(s.h0, [bm, hsz], d),
             tensor2(s.keep, [bm, t_len], d),
         );
-        let value_loss =
-            self.value_loss(model.values(states.clone()), s.old_v, s.ret, s.value_weight);
+        let colours = (!s.colours.is_empty()).then(|| {
+            let (n, width) = (bm * t_len, s.colours.len() / (bm * t_len));
+            tensor2(s.colours, [n, width], d)
+        });
+        let values = model.values(states.clone(), colours);
+        let value_loss = self.value_loss(values, s.old_v, s.ret, s.value_weight);
         let zero = Tensor::<1>::zeros([1], d).sum();
         let mut policy = PolicyTerms {
             loss: zero.clone(),

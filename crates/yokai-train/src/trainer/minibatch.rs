@@ -24,6 +24,8 @@ pub(super) struct Shard {
     /// With OBL, 1 on the rows that carry a value target (empty: all do).
     pub value_weight: Vec<f32>,
     pub h0: Vec<f32>,
+    /// With a central critic, every row's true colours (`[rows × Y·C]`); empty otherwise.
+    pub colours: Vec<f32>,
     /// Rows with one legal action (seats waiting for their turn, or a forced NOOP) carry
     /// no policy gradient: the actor head, the policy loss and the entropy skip them, so
     /// their masks and one-hot actions are not even gathered. Indices `j·T + t`.
@@ -105,6 +107,7 @@ fn gather_shard(
     let t_len = c.rollout_steps;
     let na = game.num_actions();
     let n = part.len() * t_len;
+    let yc = ro.colours.len() / ro.values.len().max(1);
     let mut s = Shard {
         sequences: part.len(),
         obs: Vec::with_capacity(n * l),
@@ -126,6 +129,7 @@ fn gather_shard(
             s.keep.push(ro.keeps[i]);
             s.old_v.push(ro.values[i]);
             s.ret.push(ro.returns[i]);
+            s.colours.extend_from_slice(&ro.colours[i * yc..][..yc]);
             if let Some(weight) = &ro.value_weight {
                 s.value_weight.push(weight[i]);
             }

@@ -30,6 +30,9 @@ pub(super) struct Rollout {
     pub returns: Vec<f32>,
     /// Every row's recurrent state at the start of the rollout (`[rows × H]`).
     pub h0: Vec<f32>,
+    /// With a central critic, every row's true colours per step (`[T × rows × Y·C]`
+    /// one-hot), which its value read; empty otherwise.
+    pub colours: Vec<f32>,
     /// The games that ended during the rollout.
     pub games: MetricsAccumulator,
     /// Mean entropy of the acting seats' policies.
@@ -66,6 +69,7 @@ impl Rollout {
             adv: Vec::new(),
             returns: Vec::new(),
             h0,
+            colours: Vec::new(),
             games: MetricsAccumulator::default(),
             entropy: 0.0,
             cluster_reward: 0.0,
@@ -179,7 +183,14 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         let choosing: Vec<usize> = (0..rows).filter(|&r| legal[r] > 1).collect();
         let dev = &self.infer_device;
         let acted = net.act(o, &self.actor.memory, &keep, &choosing, dev, shards_on(dev));
-        ro.values[t * rows..][..rows].copy_from_slice(&acted.values);
+        if net.critic_is_central() {
+            let colours = self.actor.colour_one_hots();
+            let values = net.values_of(&acted.states, &colours, dev);
+            ro.values[t * rows..][..rows].copy_from_slice(&values);
+            ro.colours.extend(colours);
+        } else {
+            ro.values[t * rows..][..rows].copy_from_slice(&acted.values);
+        }
         self.actor.memory = acted.states;
         let acting = self.actor.env().acting_seats().to_vec();
         // Learning reads the belief targets of the rows that choose, which are the acting
@@ -283,16 +294,19 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         let (last_obs, _) = self.views();
         let dev = &self.infer_device;
         let keep = self.actor.keeps();
-        let last_values = net
-            .act(
-                &last_obs,
-                &self.actor.memory,
-                &keep,
-                &[],
-                dev,
-                shards_on(dev),
-            )
-            .values;
+        let acted = net.act(
+            &last_obs,
+            &self.actor.memory,
+            &keep,
+            &[],
+            dev,
+            shards_on(dev),
+        );
+        let last_values = if net.critic_is_central() {
+            net.values_of(&acted.states, &self.actor.colour_one_hots(), dev)
+        } else {
+            acted.values
+        };
         let c = &self.config.ppo;
         let (adv, returns) = gae(
             &kept.rewards,
