@@ -126,7 +126,7 @@ def test_an_export_holds_the_networks_weights_and_what_rebuilds_its_inputs(run_d
     assert flat.dtype == np.float32 and flat.size == params.size
     assert np.array_equal(np.sort(flat), np.sort(params))
     # burn's linear layout: weight [d_in, d_out]; the GRU's input map reads the embedding.
-    assert tensors["gru.input.weight"].shape == (16, 48)
+    assert tensors["memory.input.weight"].shape == (16, 48)
     with safe_open(str(out), "np") as f:
         meta = f.metadata()
     config = tomllib.loads(meta["yokai.train_config"])

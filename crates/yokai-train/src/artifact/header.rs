@@ -36,18 +36,42 @@ pub(crate) fn read_header(file: &Container, path: &Path) -> Result<FileHeader, T
 
 /// Load network weights, refusing any record whose tensors do not match the network.
 pub(crate) fn load_model<M: Module>(model: M, bytes: &[u8], path: &str) -> Result<M, TrainError> {
-    let record = ModuleRecord::from_bytes(Bytes::from_bytes_vec(bytes.to_vec())).map_err(|e| {
-        TrainError::Record {
-            path: path.to_string(),
-            message: e.to_string(),
-        }
-    })?;
+    let unreadable = |e: String| TrainError::Record {
+        path: path.to_string(),
+        message: e,
+    };
+    let bytes = with_current_names(bytes).map_err(|e| unreadable(e.to_string()))?;
+    let record = ModuleRecord::from_bytes(bytes).map_err(|e| unreadable(e.to_string()))?;
     model
         .try_load_record(record)
-        .map_err(|e| TrainError::Record {
-            path: path.to_string(),
-            message: e.to_string(),
+        .map_err(|e| unreadable(e.to_string()))
+}
+
+/// The network's fields renamed since files were first written, as tensor path prefixes
+/// (old, new): until 2026-11-25 the memory (GRU or Transformer-XL) was the field `gru`.
+const RENAMED: &[(&str, &str)] = &[("gru.", "memory.")];
+
+/// A network record's bytes with every renamed tensor under its current name: the bytes
+/// as they are when none is renamed (every file written since), else the record rewritten.
+fn with_current_names(bytes: &[u8]) -> Result<Bytes, burn_pack::Error> {
+    let old_name = |name: &str| RENAMED.iter().any(|(old, _)| name.starts_with(old));
+    let reader = burn_pack::Reader::from_bytes(Bytes::from_bytes_vec(bytes.to_vec()))?;
+    if !reader.tensor_names().into_iter().any(old_name) {
+        return Ok(Bytes::from_bytes_vec(bytes.to_vec()));
+    }
+    let tensors = reader
+        .into_tensors()?
+        .into_iter()
+        .map(|tensor| {
+            let (name, dtype, shape, id, data) = tensor.into_parts()?;
+            let name = RENAMED
+                .iter()
+                .find_map(|(old, new)| name.strip_prefix(old).map(|rest| format!("{new}{rest}")))
+                .unwrap_or(name);
+            Ok(burn_pack::Tensor::new(name, dtype, shape, id, data))
         })
+        .collect::<Result<Vec<_>, burn_pack::Error>>()?;
+    burn_pack::Writer::new(tensors).into_bytes()
 }
 
 /// The file a policy path names: `path` itself, or for a run directory its `policy.ykp`,

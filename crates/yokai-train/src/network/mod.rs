@@ -262,7 +262,9 @@ impl Recurrent for GruCell {
 pub struct ActorCritic<E: Encoder, M: Recurrent> {
     encoder: E,
     embed: Linear,
-    gru: M,
+    /// The recurrent memory (`network.memory`: a GRU or a Transformer-XL). Files written
+    /// before 2026-11-25 name its tensors `gru.…`; [`crate::artifact`] reads them too.
+    memory: M,
     actor: Option<Linear>,
     pointer: Option<PointerHead>,
     central: Option<Linear>,
@@ -320,8 +322,8 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
         let h = config.network.hidden;
         let sqrt2 = std::f64::consts::SQRT_2;
         let embed = init.linear(encoder.output_size(), h, sqrt2, device);
-        let gru = M::build(h, &config.network, &mut init, device);
-        let out = gru.output_size();
+        let memory = M::build(h, &config.network, &mut init, device);
+        let out = memory.output_size();
         ActorCritic {
             embed,
             encoder,
@@ -343,8 +345,8 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
                 init.linear(out + truth, out, sqrt2, device)
             }),
             critic: init.linear(out, 1, config.network.critic_gain, device),
-            hidden: gru.size(),
-            gru,
+            hidden: memory.size(),
+            memory,
         }
     }
 
@@ -356,7 +358,7 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
 
     fn input_projection(&self, obs: Tensor<2>) -> Tensor<2> {
         let x = relu(self.embed.forward(self.encoder.forward(obs)));
-        self.gru.project(x)
+        self.memory.project(x)
     }
 
     /// One step for `B` rows: observations `[B, L]`, states `[B, H]`, and `keep` `[B, 1]`
@@ -373,13 +375,13 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
     /// actor on some rows only (a waiting seat's only action is NOOP).
     pub fn recur(&self, obs: Tensor<2>, h: Tensor<2>, keep: Tensor<2>) -> Tensor<2> {
         let gx = self.input_projection(obs);
-        self.gru.step(gx, h * keep)
+        self.memory.step(gx, h * keep)
     }
 
     /// Action logits `[rows, N_a]` from the rows' observations `[rows, L]` (read by the
     /// pointer head only) and the GRU states after them.
     pub fn policy_logits(&self, obs: Tensor<2>, states: Tensor<2>) -> Tensor<2> {
-        let states = self.gru.output(states);
+        let states = self.memory.output(states);
         match (&self.actor, &self.pointer) {
             (Some(actor), _) => actor.forward(states),
             (None, Some(pointer)) => pointer.forward(obs, states),
@@ -533,7 +535,7 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
         states: Tensor<2>,
     ) -> (Tensor<2>, Option<Tensor<3>>) {
         match &self.pointer {
-            Some(pointer) => pointer.forward_with_colours(obs, self.gru.output(states)),
+            Some(pointer) => pointer.forward_with_colours(obs, self.memory.output(states)),
             None => (self.policy_logits(obs, states), None),
         }
     }
@@ -556,7 +558,7 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
     /// # Panics
     /// With a central critic and no `truth`: the trainer always passes it.
     pub fn values(&self, states: Tensor<2>, truth: Option<Tensor<2>>) -> Tensor<1> {
-        let x = self.gru.output(states);
+        let x = self.memory.output(states);
         let x = match &self.central {
             None => x,
             Some(central) => {
@@ -585,14 +587,14 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
         let gx = self.input_projection(obs.reshape([b * t, l])).reshape([
             b,
             t,
-            self.gru.projected_size(),
+            self.memory.projected_size(),
         ]);
         let mut h = h0;
         let mut states = Vec::with_capacity(t);
         for s in 0..t {
             let gx_s: Tensor<2> = gx.clone().narrow(1, s, 1).squeeze_dim(1);
             let keep_s = keep.clone().narrow(1, s, 1);
-            h = self.gru.step(gx_s, h * keep_s);
+            h = self.memory.step(gx_s, h * keep_s);
             states.push(h.clone());
         }
         let all: Tensor<3> = Tensor::stack(states, 1);
