@@ -2,10 +2,11 @@
 //! through a game, in self-play (held-out episodes) and with other partners.
 
 use crate::plots::{self, Series};
-use anyhow::{anyhow, Context};
+use anyhow::Context;
 use std::fmt::Write as _;
 use std::path::PathBuf;
-use yokai_train::probe::{evaluate, fit, record, StepAccuracy};
+use yokai_train::probe::study::{Setting, Study, StudyError};
+use yokai_train::probe::StepAccuracy;
 use yokai_train::TrainedPolicy;
 
 #[derive(clap::Args)]
@@ -30,79 +31,41 @@ pub struct Args {
     out: PathBuf,
 }
 
-/// One probed setting's curve.
+/// One probed setting's curve, named for the report.
 struct Curve {
     run: String,
     setting: String,
     steps: Vec<StepAccuracy>,
 }
 
-/// Steps with fewer rows than this are left out of the curves.
-const MIN_ROWS: usize = 20;
-
 pub fn run(args: Args) -> anyhow::Result<()> {
-    if args.games < 50 {
-        return Err(anyhow!(
-            "--games {} is too few: the held-out fifth of the self-play games must give each \
-             game step at least {MIN_ROWS} seat states (use 50 or more)",
-            args.games
-        ));
-    }
     let load = |path: &PathBuf| TrainedPolicy::load(path).map_err(anyhow::Error::from);
     let runs: Vec<TrainedPolicy> = args.runs.iter().map(load).collect::<Result<_, _>>()?;
     let partners: Vec<TrainedPolicy> = args.partners.iter().map(load).collect::<Result<_, _>>()?;
+    let study = Study::new(&runs, &partners, args.games, args.seed).map_err(|e| match e {
+        StudyError::TooFewGames { .. } => anyhow::Error::from(e).context("--games"),
+        e => e.into(),
+    })?;
     // One game for every run and partner: one chance level, one plot.
-    let game = *runs[0].game();
-    if game.players() != 2 {
-        return Err(anyhow!(
-            "{}: probes are built for 2-player games (its game has {} players)",
-            args.runs[0].display(),
-            game.players()
-        ));
-    }
-    for policy in runs.iter().chain(&partners) {
-        policy.check_game(&game)?;
-    }
-    let mut curves = Vec::new();
-    for (policy, path) in runs.iter().zip(&args.runs) {
-        let name = path.display().to_string();
-        eprintln!("probing {name}: {} self-play games", args.games);
-        let own = record(
-            &game,
-            &[policy, policy],
-            &[true, true],
-            args.games,
-            args.seed,
-        );
-        let probes = fit(&game, &own, |e| e % 5 != 0);
-        curves.push(Curve {
-            run: name.clone(),
-            setting: "self-play".into(),
-            steps: evaluate(&game, &probes, &own, |e| e % 5 == 0, MIN_ROWS),
-        });
-        for (partner, partner_path) in partners.iter().zip(&args.partners) {
-            let mut with = record(
-                &game,
-                &[policy, partner],
-                &[true, false],
-                args.games,
-                args.seed + 1,
-            );
-            let other = record(
-                &game,
-                &[partner, policy],
-                &[false, true],
-                args.games,
-                args.seed + 2,
-            );
-            with.append(other);
-            curves.push(Curve {
-                run: name.clone(),
-                setting: format!("with {}", partner_path.display()),
-                steps: evaluate(&game, &probes, &with, |_| true, MIN_ROWS),
-            });
-        }
-    }
+    let game = *study.game();
+    let curves: Vec<Curve> = study
+        .run(|k| {
+            eprintln!(
+                "probing {}: {} self-play games",
+                args.runs[k].display(),
+                args.games
+            )
+        })
+        .into_iter()
+        .map(|c| Curve {
+            run: args.runs[c.run].display().to_string(),
+            setting: match c.setting {
+                Setting::SelfPlay => "self-play".into(),
+                Setting::With(k) => format!("with {}", args.partners[k].display()),
+            },
+            steps: c.steps,
+        })
+        .collect();
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create {}", args.out.display()))?;
     let chance = 1.0 / game.colours() as f64;

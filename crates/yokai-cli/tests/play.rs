@@ -539,7 +539,10 @@ fn probe_trained_runs() {
     let e = yokai_err(&["probe", dir.join("nothing").to_str().unwrap()]);
     assert!(e.contains("nothing"), "{e}");
     let e = yokai_err(&["probe", a.to_str().unwrap(), "--games", "10"]);
-    assert!(e.contains("--games 10 is too few"), "{e}");
+    assert!(
+        e.contains("--games: 10 self-play games per run are too few"),
+        "{e}"
+    );
     assert!(text(&o).contains("chance 33.3 %"), "{}", text(&o));
     // A 4-colour game: chance is a quarter; it cannot be probed beside a 9c run.
     let sixteen = dir.join("sixteen.toml");

@@ -10,8 +10,10 @@
 //!   knows every colour the seat saw and, for the others, names the colour with the most
 //!   cards left (what first-hand memory and the counts allow without any inference from
 //!   partners).
+//! - [`study::Study`] is what `yokai probe` runs: those steps for runs and partners.
 
 mod logistic;
+pub mod study;
 
 pub use logistic::LinearProbe;
 
