@@ -9,8 +9,8 @@ use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 use std::collections::BTreeSet;
 use std::time::Instant;
-use yokai_engine::reference::{connected, reference_moves, reference_reward};
-use yokai_engine::{Action, Card, Config, Game, HintSlot, Seat, Substep};
+use yokai_engine::reference::{check_state, reference_moves, reference_reward};
+use yokai_engine::{Action, Config, Game, Seat, Substep};
 use yokai_vec::{episode_seed, Encoding, VecEnv, VecEnvOptions};
 
 #[derive(clap::Args)]
@@ -155,59 +155,12 @@ fn soak_config(
             }
         }
         let env_ref = &env;
-        (0..n).into_par_iter().try_for_each(|i| {
-            check_invariants(env_ref.game(i)).with_context(|| format!("env {i}"))
-        })?;
+        (0..n)
+            .into_par_iter()
+            .try_for_each(|i| check_state(env_ref.game(i)).with_context(|| format!("env {i}")))?;
         bar.inc(n as u64);
     }
     Ok(tally)
-}
-
-/// What every state of every game must satisfy (RULES §1, §2, §4), connectivity by the
-/// reference's breadth-first search over plain cells.
-fn check_invariants(game: &Game) -> anyhow::Result<()> {
-    let config = game.config();
-    let y = config.cards();
-    let cells: BTreeSet<(i32, i32)> = (0..y)
-        .map(|k| {
-            let c = game.cell_of(Card(k as u8));
-            (c.row as i32, c.col as i32)
-        })
-        .collect();
-    if cells.len() != y {
-        bail!("two cards share a cell");
-    }
-    if !connected(&cells) {
-        bail!("the cards are not one 4-connected group");
-    }
-    let mut per_colour = [0usize; yokai_engine::MAX_COLOURS];
-    for k in 0..y {
-        per_colour[game.colour_of(Card(k as u8)).index()] += 1;
-    }
-    if per_colour[..config.colours()]
-        .iter()
-        .any(|&count| count != config.cards_per_colour())
-    {
-        return Err(anyhow!(
-            "colour counts {:?}",
-            &per_colour[..config.colours()]
-        ));
-    }
-    let mut placed = 0;
-    for h in 0..config.hints() {
-        let slot = HintSlot(h as u8);
-        if game.hint_card(slot).is_some() {
-            placed += 1;
-            if game.revealed_hint(slot).is_none() {
-                bail!("hint {h} placed without being revealed");
-            }
-        }
-    }
-    let hinted = (0..y).filter(|&k| game.is_hinted(Card(k as u8))).count();
-    if placed != hinted {
-        bail!("{placed} hints placed but {hinted} cards hinted");
-    }
-    Ok(())
 }
 
 /// Replay a finished game from its deal: at every MOVE substep the engine's legal moves
@@ -270,7 +223,7 @@ mod tests {
         let mut game = Game::new(config, 4);
         let mut actions = Vec::new();
         while !game.is_over() {
-            check_invariants(&game).unwrap();
+            check_state(&game).unwrap();
             let legal = game.legal_actions(game.current_seat());
             let a = legal[actions.len() * 7 % legal.len()];
             actions.push(config.encode(a) as u32);

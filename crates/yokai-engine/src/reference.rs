@@ -1,8 +1,9 @@
 //! Slow, obviously-correct reference implementations of the rules the engine computes fast
 //! on bitboards: connectivity by breadth-first search over plain cells, MOVE legality by
 //! trying every card and cell, clustering per colour, and the terminal reward of RULES §4
-//! from public accessors. The engine's property tests and `yokai soak` check the fast
-//! engine against them; nothing in play uses them.
+//! from public accessors, and [`check_state`], the invariants every state keeps. The
+//! engine's property tests and `yokai soak` check the fast engine against them; nothing in
+//! play uses them.
 
 use crate::bitboard::Cell;
 use crate::game::{Game, Phase};
@@ -106,4 +107,63 @@ pub fn reference_reward(game: &Game) -> i32 {
         let d = (game.phase() == Phase::EndedEarly) as i32;
         -d - (c - clustered) - wrong
     }
+}
+
+/// An invariant of one state (RULES §1, §2, §4) that [`check_state`] found broken.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum StateFault {
+    #[error("two cards share a cell")]
+    SharedCell,
+    #[error("the cards are not one 4-connected group")]
+    NotConnected,
+    #[error("colour counts {counts:?}, not {each} each")]
+    ColourCounts { counts: Vec<usize>, each: usize },
+    #[error("hint {0} placed without being revealed")]
+    PlacedUnrevealed(usize),
+    #[error("{placed} hints placed but {hinted} cards hinted")]
+    HintCount { placed: usize, hinted: usize },
+}
+
+/// The invariants every state of every game keeps, read from public accessors (cells by
+/// plain sets, connectivity by [`connected`]): every card on its own cell, all cards one
+/// 4-connected group, each colour on its share of the cards, and every placed hint revealed
+/// and on exactly one hinted card. What holds across steps (a hinted card never moves,
+/// colours never change) needs the game's history and is the caller's.
+pub fn check_state(game: &Game) -> Result<(), StateFault> {
+    let config = game.config();
+    let y = config.cards();
+    let cells = cells_of(game);
+    let distinct: BTreeSet<(i32, i32)> = cells.iter().copied().collect();
+    if distinct.len() != y {
+        return Err(StateFault::SharedCell);
+    }
+    if !connected(&distinct) {
+        return Err(StateFault::NotConnected);
+    }
+    let mut counts = vec![0usize; config.colours()];
+    for k in 0..y {
+        let colour = game.colour_of(Card(k as u8)).index();
+        if let Some(count) = counts.get_mut(colour) {
+            *count += 1;
+        }
+    }
+    let each = config.cards_per_colour();
+    if counts.iter().any(|&count| count != each) {
+        return Err(StateFault::ColourCounts { counts, each });
+    }
+    let mut placed = 0;
+    for h in 0..config.hints() {
+        let slot = HintSlot(h as u8);
+        if game.hint_card(slot).is_some() {
+            placed += 1;
+            if game.revealed_hint(slot).is_none() {
+                return Err(StateFault::PlacedUnrevealed(h));
+            }
+        }
+    }
+    let hinted = (0..y).filter(|&k| game.is_hinted(Card(k as u8))).count();
+    if placed != hinted {
+        return Err(StateFault::HintCount { placed, hinted });
+    }
+    Ok(())
 }

@@ -29,7 +29,7 @@ pub fn all_configs() -> Vec<Config> {
 }
 
 pub use yokai_engine::reference::{
-    connected, reference_clustered, reference_moves, reference_reward,
+    check_state, reference_clustered, reference_moves, reference_reward,
 };
 
 /// A seeded random player: uniform over the legal actions of the acting seat.
@@ -140,16 +140,13 @@ pub fn play_checked(
             assert_eq!(step.reward, game.end_reward(), "END at step {step_index}");
             assert_eq!(step.reward, reference_reward(&ended));
         }
-        // Cards: distinct cells, one 4-connected group, hinted cards where they were hinted.
-        let cells: BTreeSet<(i32, i32)> = (0..y)
-            .map(|k| {
-                let c = game.cell_of(Card(k as u8));
-                (c.row as i32, c.col as i32)
-            })
-            .collect();
-        assert_eq!(cells.len(), y, "two cards share a cell\n{game:?}");
+        // The state's own invariants (distinct cells, one 4-connected group, colour
+        // counts, placed hints revealed and on hinted cards), then hinted cards where they
+        // were hinted.
+        if let Err(fault) = check_state(&game) {
+            panic!("step {step_index}: {fault}\n{game:?}");
+        }
         assert_eq!(game.occupied().count() as usize, y);
-        assert!(connected(&cells), "cards are not connected\n{game:?}");
         for k in 0..y {
             let card = Card(k as u8);
             match (hinted_at[k], game.is_hinted(card)) {
