@@ -1,7 +1,7 @@
 //! `yokai train`: train seeds of a config, then evaluate them against each other.
 
 use crate::eval::{evaluate, save_replays, summarise_groups, write_outputs};
-use anyhow::{anyhow, bail};
+use anyhow::{anyhow, Context};
 use indicatif::{MultiProgress, ProgressBar, ProgressStyle};
 use std::collections::VecDeque;
 use std::path::{Path, PathBuf};
@@ -146,30 +146,17 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let Some(levels) = &args.levels else {
         return train_and_evaluate(&args, &config, &name, &seeds, &out);
     };
-    if config.obl.level == 0 {
-        return Err(anyhow!(
-            "--levels trains Off-Belief Learning levels, but {name} is not an OBL config \
-             (its obl.level is 0; try obl-cpu or obl-quick)"
-        ));
-    }
-    // Levels count from 1: parse them as seeds are parsed, then check.
+    // Levels count from 1: parse them as seeds are parsed, then plan the chain.
     let levels = yokai_agents::parse_seeds(levels).map_err(|e| anyhow!("--levels {e}"))?;
-    if levels.contains(&0) {
-        bail!("--levels counts from 1 (level 0 is random play)");
-    }
-    for level in levels {
-        let mut c = config.clone();
-        c.obl.level = level as u32;
-        if level >= 2 {
-            // The level below is the partner, and (as in the reference implementation) the
-            // starting point: level L starts from level L−1's weights.
-            let below = out.join(format!("level-{}", level - 1));
-            c.obl.previous = Some(below.clone());
-            c.run.init_from = Some(below);
-        }
-        c.validate("config")?;
-        let dir = out.join(format!("level-{level}"));
-        train_and_evaluate(&args, &c, &format!("{name} level {level}"), &seeds, &dir)?;
+    let levels: Vec<u32> = levels
+        .into_iter()
+        .map(|l| l.min(u32::MAX as u64) as u32)
+        .collect();
+    let chain = yokai_train::obl::levels::plan(&config, &levels, &out)
+        .with_context(|| format!("--levels with {name}"))?;
+    for level in chain {
+        let label = format!("{name} level {}", level.level);
+        train_and_evaluate(&args, &level.config, &label, &seeds, &level.dir)?;
     }
     Ok(())
 }

@@ -478,9 +478,9 @@ fn train_obl_levels_in_sequence() {
         "--out",
         out.to_str().unwrap(),
     ]);
-    assert!(e.contains("not an OBL config"), "{e}");
+    assert!(e.contains("--levels with") && e.contains("obl.level is 0"), "{e}");
     let e = yokai_err(&["train", config.to_str().unwrap(), "--levels", "0..2"]);
-    assert!(e.contains("counts from 1"), "{e}");
+    assert!(e.contains("levels count from 1"), "{e}");
 }
 
 /// `yokai probe` on trained runs writes per-step accuracies (self-play on held-out

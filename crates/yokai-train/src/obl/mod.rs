@@ -22,6 +22,8 @@
 //!   `partners` plays the partners in them (the level below or the learner), and `memory`
 //!   steps memories along the fictitious states.
 //!
+//! - [`levels`]: a chain of levels, each trained on the one below (`yokai train --levels`).
+//!
 //! Everything here takes its inputs as arguments (the run's games as an
 //! [`crate::actor::Actor`], the learner's network, the level below); the PPO trainer calls
 //! [`targets::targets`] once per rollout step and knows nothing else of OBL.
@@ -29,6 +31,7 @@
 pub mod belief;
 pub mod continuation;
 pub mod learn;
+pub mod levels;
 pub(crate) mod memory;
 pub mod model;
 pub(crate) mod partners;
