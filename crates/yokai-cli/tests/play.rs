@@ -478,7 +478,10 @@ fn train_obl_levels_in_sequence() {
         "--out",
         out.to_str().unwrap(),
     ]);
-    assert!(e.contains("--levels with") && e.contains("obl.level is 0"), "{e}");
+    assert!(
+        e.contains("--levels with") && e.contains("obl.level is 0"),
+        "{e}"
+    );
     let e = yokai_err(&["train", config.to_str().unwrap(), "--levels", "0..2"]);
     assert!(e.contains("levels count from 1"), "{e}");
 }

@@ -92,58 +92,19 @@ pub fn checkpoint_config(dir: &Path) -> Result<TrainConfig, TrainError> {
     )?)
 }
 
+/// One seed's run with the network types `E`, `M`: open it (new or resumed), then update
+/// until the budget or `max_updates`, logging metrics and checkpointing as the config says;
+/// a stop leaves a checkpoint and a policy file.
 fn run<E: Encoder, M: Recurrent>(
     request: &RunRequest<'_>,
     on_update: &mut dyn FnMut(&UpdateStats, u64),
 ) -> Result<RunSummary, TrainError> {
-    let RunRequest {
-        config,
-        seed,
-        dir,
-        resume,
-        max_updates,
-        backend,
-    } = *request;
-    let device = backend.device()?;
+    let (dir, max_updates) = (request.dir, request.max_updates);
     let start = std::time::Instant::now();
     let checkpoint = dir.join(CHECKPOINT);
     let metrics_path = dir.join(METRICS);
-    let mut trainer = if resume {
-        let mut t = Trainer::<E, M>::resume_on(&checkpoint, device)?;
-        t.set_total_steps(config.ppo.total_steps);
-        truncate_metrics(&metrics_path, t.update_count())?;
-        t
-    } else {
-        if checkpoint.exists() {
-            return Err(TrainError::Io {
-                path: dir.display().to_string(),
-                message: "already holds a run; use --resume to continue it or choose another --out"
-                    .into(),
-            });
-        }
-        std::fs::create_dir_all(dir).map_err(|e| io(dir, e))?;
-        let t = Trainer::<E, M>::new_on(config.clone(), seed, device)?;
-        let game = t.config().game_config()?;
-        write(&dir.join("config.toml"), &t.config().to_toml())?;
-        write(&dir.join("game.toml"), &game.to_toml())?;
-        write(&metrics_path, "")?;
-        t
-    };
-    // The belief is trained anew, identically, on every start and resume: its curve is
-    // written each time.
-    if let Some(curve) = trainer.belief_curve() {
-        let path = dir.join(BELIEF_METRICS);
-        let lines: String = curve
-            .iter()
-            .enumerate()
-            .map(|(k, s)| {
-                let mut v = serde_json::to_value(s).expect("belief stats serialise");
-                v["update"] = serde_json::json!(k + 1);
-                format!("{v}\n")
-            })
-            .collect();
-        write(&path, &lines)?;
-    }
+    let mut trainer = open::<E, M>(request)?;
+    write_belief_curve(&trainer, dir)?;
     let total = trainer.config().updates();
     let steps_before = trainer.env_steps();
     let mut log = std::fs::OpenOptions::new()
@@ -183,6 +144,64 @@ fn run<E: Encoder, M: Recurrent>(
         last,
         seconds: start.elapsed().as_secs_f64(),
     })
+}
+
+/// The run's trainer: resumed from the checkpoint in `request.dir` (its metrics log cut
+/// back to the checkpoint), or new in a new run directory with its config, game and an
+/// empty log.
+fn open<E: Encoder, M: Recurrent>(request: &RunRequest<'_>) -> Result<Trainer<E, M>, TrainError> {
+    let RunRequest {
+        config,
+        seed,
+        dir,
+        resume,
+        backend,
+        ..
+    } = *request;
+    let device = backend.device()?;
+    let checkpoint = dir.join(CHECKPOINT);
+    let metrics_path = dir.join(METRICS);
+    if resume {
+        let mut t = Trainer::<E, M>::resume_on(&checkpoint, device)?;
+        t.set_total_steps(config.ppo.total_steps);
+        truncate_metrics(&metrics_path, t.update_count())?;
+        return Ok(t);
+    }
+    if checkpoint.exists() {
+        return Err(TrainError::Io {
+            path: dir.display().to_string(),
+            message: "already holds a run; use --resume to continue it or choose another --out"
+                .into(),
+        });
+    }
+    std::fs::create_dir_all(dir).map_err(|e| io(dir, e))?;
+    let t = Trainer::<E, M>::new_on(config.clone(), seed, device)?;
+    let game = t.config().game_config()?;
+    write(&dir.join("config.toml"), &t.config().to_toml())?;
+    write(&dir.join("game.toml"), &game.to_toml())?;
+    write(&metrics_path, "")?;
+    Ok(t)
+}
+
+/// An OBL run's belief curve, `belief.jsonl`. The belief is trained anew, identically, on
+/// every start and resume: its curve is written each time.
+fn write_belief_curve<E: Encoder, M: Recurrent>(
+    trainer: &Trainer<E, M>,
+    dir: &Path,
+) -> Result<(), TrainError> {
+    let Some(curve) = trainer.belief_curve() else {
+        return Ok(());
+    };
+    let lines: String = curve
+        .iter()
+        .enumerate()
+        .map(|(k, s)| {
+            let mut v = serde_json::to_value(s).expect("belief stats serialise");
+            v["update"] = serde_json::json!(k + 1);
+            format!("{v}\n")
+        })
+        .collect();
+    write(&dir.join(BELIEF_METRICS), &lines)
 }
 
 /// Save the last training game of env 0 as `RUN/replays/update-NNNNNN.jsonl`, so that what

@@ -271,25 +271,24 @@ impl BeliefTrainer {
         BeliefStats::mean(parts)
     }
 
-    fn learn(&mut self, batch: &[usize], ro: &Rollout, lr: f64) -> BeliefStats {
+    /// The rows `batch` of the rollout as the belief model learns them: their sequences,
+    /// and per slot the model must name (each card the seat has not seen at each step) its
+    /// state row, decoder inputs and true colour.
+    fn gather(&self, batch: &[usize], ro: &Rollout) -> BeliefBatch {
         let (rows, y, c) = (self.rows(), self.game.cards(), self.game.colours());
         let t_len = self.config.rollout_steps;
         let hsz = self.config.hidden;
         let l: usize = self.game.node_shape(Part::Full).iter().product();
         let f = self.model.features();
-        let bm = batch.len();
-        let (mut obs, mut keep, mut h0) = (Vec::new(), Vec::new(), Vec::new());
-        // Per unseen slot: its state row, decoder inputs and true colour.
-        let (mut at, mut inputs, mut target) = (Vec::new(), SlotInputs::default(), Vec::new());
         let p = self.game.players();
-        let mut uniform = 0f64;
+        let mut out = BeliefBatch::default();
         for (j, &r) in batch.iter().enumerate() {
-            h0.extend_from_slice(&self.hidden[r * hsz..][..hsz]);
+            out.h0.extend_from_slice(&self.hidden[r * hsz..][..hsz]);
             for t in 0..t_len {
                 let i = t * rows + r;
                 let o = &ro.obs[i * l..][..l];
-                obs.extend_from_slice(o);
-                keep.push(ro.keeps[i]);
+                out.obs.extend_from_slice(o);
+                out.keep.push(ro.keeps[i]);
                 let truth = &ro.truth[i * y..][..y];
                 let first = &ro.first_hand[i * y..][..y];
                 let adjacency = &ro.adjacency[(t * rows / p + r / p) * y * y..][..y * y];
@@ -297,16 +296,36 @@ impl BeliefTrainer {
                     if first[k].is_some() {
                         continue;
                     }
-                    let a = inputs.push(&self.game, f, o, adjacency, &truth[..k], first, k);
+                    let a = out
+                        .inputs
+                        .push(&self.game, f, o, adjacency, &truth[..k], first, k);
                     let true_colour = truth[k] as usize;
-                    uniform -= (a[true_colour] as f64 / a.iter().sum::<usize>() as f64).ln();
-                    at.push((j * t_len + t) as i64);
+                    out.uniform -= (a[true_colour] as f64 / a.iter().sum::<usize>() as f64).ln();
+                    out.at.push((j * t_len + t) as i64);
                     let mut one_hot = vec![0f32; c];
                     one_hot[true_colour] = 1.0;
-                    target.extend(one_hot);
+                    out.target.extend(one_hot);
                 }
             }
         }
+        out
+    }
+
+    /// One Adam step of the belief model on the rows `batch` of the rollout, at `lr`.
+    fn learn(&mut self, batch: &[usize], ro: &Rollout, lr: f64) -> BeliefStats {
+        let c = self.game.colours();
+        let (t_len, hsz) = (self.config.rollout_steps, self.config.hidden);
+        let l: usize = self.game.node_shape(Part::Full).iter().product();
+        let bm = batch.len();
+        let BeliefBatch {
+            obs,
+            keep,
+            h0,
+            at,
+            inputs,
+            target,
+            uniform,
+        } = self.gather(batch, ro);
         let d = &self.device;
         let n = at.len();
         let states = self.model.unroll(
@@ -352,6 +371,21 @@ impl BeliefTrainer {
             slots: n,
         }
     }
+}
+
+/// A minibatch of the belief model's learning ([`BeliefTrainer::gather`]).
+#[derive(Default)]
+struct BeliefBatch {
+    /// The rows' sequences: observations `[rows × T × L]`, keep flags, first states.
+    obs: Vec<f32>,
+    keep: Vec<f32>,
+    h0: Vec<f32>,
+    /// Per slot: its state row (`j·T + t`), decoder inputs and true colour (one-hot).
+    at: Vec<i64>,
+    inputs: SlotInputs,
+    target: Vec<f32>,
+    /// Σ −ln(uniform probability of the true colour) over the slots: the baseline.
+    uniform: f64,
 }
 
 /// Every seat of every game steps `net`'s memory on its observation (`hidden`, per row);
