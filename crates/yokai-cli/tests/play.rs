@@ -212,13 +212,55 @@ fn train_then_eval_a_run_directory() {
         report.contains("![cross-play heatmap](xp_heatmap.png)"),
         "{report}"
     );
-    // The heatmap decodes as an image of the expected size: 3 policies (2 seeds + random).
+    // The heatmap shows the evaluation's numbers: one cell per ordered pair of the 3
+    // policies (2 seeds + random), each holding the R that matrix.json gives that pair
+    // (either order: R is symmetric in the seating).
+    let svg = std::fs::read_to_string(eval.join("xp_heatmap.svg")).unwrap();
+    let matrix: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(eval.join("matrix.json")).unwrap()).unwrap();
+    let names: Vec<&str> = {
+        let mut v: Vec<&str> = Vec::new();
+        for pair in matrix.as_array().unwrap() {
+            for side in ["row", "col"] {
+                let name = pair[side].as_str().unwrap();
+                if !v.contains(&name) {
+                    v.push(name);
+                }
+            }
+        }
+        v
+    };
+    assert_eq!(names.len(), 3, "{names:?}");
+    let mut cells = 0;
+    for pair in matrix.as_array().unwrap() {
+        let at = |side: &str| names.iter().position(|&n| n == pair[side]).unwrap();
+        let (i, j) = (at("row"), at("col"));
+        let value = format!("{:.3}", pair["metrics"]["reward"].as_f64().unwrap());
+        for (r, c) in [(i, j), (j, i)] {
+            let cell = format!("data-row=\"{r}\" data-col=\"{c}\" data-value=\"{value}\"");
+            assert!(svg.contains(&cell), "{cell} not in the heatmap");
+            cells += 1;
+        }
+    }
+    assert!(cells >= 9, "{cells} cells checked");
+    assert_eq!(svg.matches("class=\"cell\"").count(), 9);
+    // The PNG is that picture: the SVG's size, and not blank (white, cells, text).
     let png = std::fs::read(eval.join("xp_heatmap.png")).unwrap();
     let image = resvg::tiny_skia::Pixmap::decode_png(&png).unwrap();
-    // Wide enough for 3 columns of 64 px after the labels, or for the title if wider.
-    let title = "R of each pair on 9c-2p-perfect (diagonal: self-play)";
-    let width = (170 + 3 * 64 + 20).max(20 + 9 * title.chars().count() as u32);
-    assert_eq!((image.width(), image.height()), (width, 60 + 3 * 64 + 170));
+    let declared = |attr: &str| -> u32 {
+        let at = svg.find(&format!("{attr}=\"")).unwrap() + attr.len() + 2;
+        svg[at..].split('"').next().unwrap().parse().unwrap()
+    };
+    assert_eq!(
+        (image.width(), image.height()),
+        (declared("width"), declared("height"))
+    );
+    let colours: std::collections::BTreeSet<[u8; 4]> = image
+        .pixels()
+        .iter()
+        .map(|p| [p.red(), p.green(), p.blue(), p.alpha()])
+        .collect();
+    assert!(colours.len() >= 4, "{} colours in the PNG", colours.len());
     let curves = std::fs::read_to_string(eval.join("learning_return.svg")).unwrap();
     assert_eq!(
         curves.matches("class=\"series\"").count(),
