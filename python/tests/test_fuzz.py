@@ -150,9 +150,15 @@ def test_any_batch_of_actions_steps_or_is_refused_and_the_batch_still_steps(dtyp
         boards = None
     if boards is not None:
         assert [venv.render(i) for i in range(2)] == boards
-    # Refused or not, the batch goes on with legal actions.
-    out = venv.step(venv.sample_actions(seed))
-    assert out["obs"].shape[0] == 2
+    # Refused or not, the batch goes on with legal actions exactly as a twin batch that
+    # was only ever given the steps that were accepted.
+    twin = yokai.VecEnv("9c-2p-perfect", num_envs=2, seed=seed)
+    twin.reset()
+    if boards is None:
+        twin.step(actions)
+    out, want = venv.step(venv.sample_actions(seed)), twin.step(twin.sample_actions(seed))
+    for key in ("obs", "legal_mask", "acting_seat", "reward", "shaping", "done"):
+        assert np.array_equal(out[key], want[key]), key
 
 
 @FUZZ

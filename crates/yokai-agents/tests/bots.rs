@@ -299,9 +299,34 @@ fn bots_are_deterministic_given_their_seed() {
 fn seatings_cover_every_permutation_using_all_members() {
     assert_eq!(seatings(&[0, 1], 2), vec![vec![0, 1], vec![1, 0]]);
     // Two policies at three seats: 2^3 arrangements minus the two that leave one out.
-    assert_eq!(seatings(&[0, 1], 3).len(), 6);
+    let sorted = |mut v: Vec<Vec<usize>>| {
+        v.sort();
+        v
+    };
+    assert_eq!(
+        sorted(seatings(&[0, 1], 3)),
+        [
+            [0, 0, 1],
+            [0, 1, 0],
+            [0, 1, 1],
+            [1, 0, 0],
+            [1, 0, 1],
+            [1, 1, 0]
+        ]
+    );
     assert_eq!(seatings(&[2], 3), vec![vec![2, 2, 2]]);
-    assert_eq!(seatings(&[0, 1, 2], 3).len(), 6);
+    // Three at three: every permutation once.
+    assert_eq!(
+        sorted(seatings(&[4, 5, 6], 3)),
+        [
+            [4, 5, 6],
+            [4, 6, 5],
+            [5, 4, 6],
+            [5, 6, 4],
+            [6, 4, 5],
+            [6, 5, 4]
+        ]
+    );
 }
 
 #[test]

@@ -143,6 +143,7 @@ fn partner_memories_replayed_in_the_true_colours_are_the_real_ones() {
     for i in 0..8 {
         let seat = seats[i][0].index();
         let want = &real[(2 * i + seat) * h..][..h];
+        assert_eq!(replayed[i].len(), want.len(), "game {i}: a whole memory");
         for (a, b) in replayed[i].iter().zip(want) {
             assert!(
                 (a - b).abs() < 1e-5,
@@ -361,6 +362,10 @@ fn a_seat_that_plays_on_carries_the_memory_of_its_whole_continuation() {
         "some continuation went through a partner's turn: {longest}"
     );
     for i in 0..8 {
+        assert!(
+            !fast[i].is_empty() && fast[i].len() == slow[i].len(),
+            "game {i}"
+        );
         for (a, b) in fast[i].iter().zip(&slow[i]) {
             assert!(
                 (a - b).abs() < 1e-5,
