@@ -108,3 +108,36 @@ def test_custom_config_from_toml(tmp_path):
     env = yokai.Env(str(path))
     assert env.num_players == 3
     assert "9c-3p-imperfect" in yokai.configs()
+
+
+def test_ground_truth_is_the_colour_a_seat_sees_once_it_looks():
+    # Every card, observed in turn across games of several deals, shows in the seat's
+    # rendered view in the colour ground_truth() gives it (R, G, B, Y are colours 0-3).
+    checked = 0
+    for seed in range(6):
+        for first in range(0, 16, 2):
+            env = yokai.Env("16c-2p-perfect", seed=seed)
+            truth = env.ground_truth()
+            cards = [first, first + 1]
+            for card in cards:
+                env.step(f"observe card {card}")
+            view = env.render(0)
+            for card in cards:
+                assert f"{'RGBY'[truth[card]]}{card} " in view.replace("\n", " "), (seed, card, view)
+                checked += 1
+    assert checked == 6 * 16
+
+
+def test_step_joint_with_noops_for_the_waiting_seats_is_step():
+    # step_joint takes one action per seat: the acting seat's action and NOOP for the
+    # others steps exactly as step(action) does, through a whole game.
+    rng = np.random.default_rng(5)
+    one, joint = yokai.Env("9c-3p-perfect", seed=8), yokai.Env("9c-3p-perfect", seed=8)
+    noop = one.action_index("noop")
+    while not one.done:
+        action = int(rng.choice(one.legal_actions()))
+        actions = [noop] * one.num_players
+        actions[one.acting_seat] = action
+        assert joint.step_joint(actions) == one.step(action)
+        assert joint.render() == one.render()
+    assert joint.done and joint.outcome == one.outcome and joint.history == one.history
