@@ -99,13 +99,17 @@ fn scripted_line_mode_game_finishes_and_saves_a_replay_that_renders() {
     assert!(all.contains("game over after"), "{all}");
     assert!(all.contains("seat 1 (belief):"), "the bot played: {all}");
 
-    // The replay renders one SVG per state, each with all 9 cards of the true board.
+    // The replay renders one SVG per state, each with all 9 cards of the true board, and
+    // with --png the same pictures as PNG.
     let svg_dir = dir.join("svg");
+    let png_dir = dir.join("png");
     let out = yokai(&[
         "replay",
         save.to_str().unwrap(),
         "--svg",
         svg_dir.to_str().unwrap(),
+        "--png",
+        png_dir.to_str().unwrap(),
     ]);
     assert!(out.status.success(), "{}", text(&out));
     let steps = std::fs::read_to_string(&save)
@@ -127,7 +131,32 @@ fn scripted_line_mode_game_finishes_and_saves_a_replay_that_renders() {
             "{}",
             f.display()
         );
+        // Its PNG twin: the SVG's declared size, and a picture, not a blank page.
+        let png = png_dir.join(f.with_extension("png").file_name().unwrap());
+        let image = resvg::tiny_skia::Pixmap::decode_png(&std::fs::read(&png).unwrap()).unwrap();
+        let declared = |attr: &str| -> u32 {
+            let at = svg.find(&format!(" {attr}=\"")).unwrap() + attr.len() + 3;
+            svg[at..].split('"').next().unwrap().parse().unwrap()
+        };
+        assert_eq!(
+            (image.width(), image.height()),
+            (declared("width"), declared("height")),
+            "{}",
+            png.display()
+        );
+        let distinct: std::collections::BTreeSet<_> = image
+            .pixels()
+            .iter()
+            .map(|p| (p.red(), p.green(), p.blue()))
+            .collect();
+        assert!(
+            distinct.len() >= 4,
+            "{}: {} colours",
+            png.display(),
+            distinct.len()
+        );
     }
+    assert_eq!(std::fs::read_dir(&png_dir).unwrap().count(), steps + 1);
     // Text mode prints every state.
     let out =
         String::from_utf8(yokai_ok(&["replay", save.to_str().unwrap(), "--seat", "1"])).unwrap();
