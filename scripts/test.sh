@@ -56,6 +56,12 @@ done
 if [ "$torch_installed" = 0 ] && [ -n "$attempts" ]; then
     echo "WARNING: PyTorch could not be downloaded from PyPI; the PyTorch example's test is skipped" >&2
 fi
+# The skips python/tests/conftest.py allows, each only where its reason holds here; any
+# other skip fails the run.
+export YOKAI_STRICT_SKIPS=1
+if ! .venv/bin/python -c "import torch" 2> /dev/null; then
+    export YOKAI_TORCH_MISSING=1
+fi
 # The browser test of `yokai serve` drives Debian's Chromium with Selenium (installed with
 # the test extra). Install the browser where we may (root on Debian, about 1 min); without
 # it that one test is skipped.
@@ -63,6 +69,11 @@ if ! command -v chromedriver > /dev/null && [ "$(id -u)" = 0 ] && command -v apt
     apt-get install -y -q chromium chromium-driver > /dev/null 2>&1 \
         || { apt-get update -q > /dev/null 2>&1 && apt-get install -y -q chromium chromium-driver > /dev/null 2>&1; } \
         || echo "could not install chromium: the browser test will be skipped"
+fi
+if ! command -v chromedriver > /dev/null || ! command -v chromium > /dev/null; then
+    if [ "$(id -u)" != 0 ] || ! command -v apt-get > /dev/null; then
+        export YOKAI_NO_BROWSER=1
+    fi
 fi
 # The package without the trainer (no burn) in a venv of its own, for test_lean.py: it
 # must play and say clearly what it lacks.
