@@ -407,6 +407,23 @@ mod tests {
         assert_eq!(fast, obl);
     }
 
+    /// `quick` (the main job) says it is `cpu-fast` with a central critic at 5M steps, and
+    /// `quick-op` that it is `quick` with Other-Play's symmetries; nothing else may drift.
+    #[test]
+    fn quick_is_cpu_fast_with_a_central_critic_and_quick_op_adds_the_symmetries() {
+        let (fast, mut quick) = (preset("cpu-fast"), preset("quick"));
+        assert_eq!(quick.network.critic, yokai_train::CriticInput::Central);
+        assert_eq!(quick.ppo.total_steps, 5_000_000);
+        let mut op = preset("quick-op");
+        assert_eq!(op.algorithm.symmetries, yokai_train::SymmetrySet::Both);
+        op.algorithm = quick.algorithm.clone();
+        assert_eq!(op, quick);
+        quick.network.critic = fast.network.critic;
+        quick.ppo.total_steps = fast.ppo.total_steps;
+        quick.run.checkpoint_every = fast.run.checkpoint_every;
+        assert_eq!(fast, quick);
+    }
+
     #[test]
     fn every_file_in_configs_is_a_preset() {
         let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../configs");
