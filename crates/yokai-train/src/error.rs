@@ -14,12 +14,41 @@ pub enum TrainError {
     Backend(#[from] crate::backend::BackendError),
     #[error("environment: {0}")]
     Env(#[from] VecError),
+    /// A file that does not fit what reads it (another network, sizes that disagree).
     #[error("{path}: {message}")]
     Mismatch { path: String, message: String },
     #[error("{path}: cannot load the network: {message}")]
     Record { path: String, message: String },
-    #[error("{path}: {message}")]
-    Io { path: String, message: String },
+    #[error("{}: {source}", path.display())]
+    Io {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    /// A JSON part of a file (a header, a loop state, a metrics line) that does not parse;
+    /// `what` names the part.
+    #[error("{path}: {what}: {source}")]
+    Json {
+        path: String,
+        what: &'static str,
+        #[source]
+        source: serde_json::Error,
+    },
+    /// The game config a policy file or checkpoint carries does not parse.
+    #[error("{path}: game config: {source}")]
+    GameConfig {
+        path: String,
+        #[source]
+        source: yokai_engine::ConfigError,
+    },
+    /// burn's SafeTensors writer failed (its error type is burn's own; its text is kept).
+    #[error("{}: cannot write SafeTensors: {message}", path.display())]
+    Export { path: PathBuf, message: String },
+    #[error(
+        "{}: already holds a run; use --resume to continue it or choose another --out",
+        dir.display()
+    )]
+    RunExists { dir: PathBuf },
     /// An Off-Belief Learning continuation that could not be built (a bug, named).
     #[error("off-belief learning: {0}")]
     Obl(String),

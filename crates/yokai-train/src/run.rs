@@ -37,10 +37,10 @@ pub struct RunSummary {
     pub seconds: f64,
 }
 
-fn io(path: &Path, e: std::io::Error) -> TrainError {
+fn io(path: &Path, source: std::io::Error) -> TrainError {
     TrainError::Io {
-        path: path.display().to_string(),
-        message: e.to_string(),
+        path: path.to_path_buf(),
+        source,
     }
 }
 
@@ -168,10 +168,8 @@ fn open<E: Encoder, M: Recurrent>(request: &RunRequest<'_>) -> Result<Trainer<E,
         return Ok(t);
     }
     if checkpoint.exists() {
-        return Err(TrainError::Io {
-            path: dir.display().to_string(),
-            message: "already holds a run; use --resume to continue it or choose another --out"
-                .into(),
+        return Err(TrainError::RunExists {
+            dir: dir.to_path_buf(),
         });
     }
     std::fs::create_dir_all(dir).map_err(|e| io(dir, e))?;
@@ -259,9 +257,10 @@ pub fn read_metrics(dir: &Path) -> Result<Vec<UpdateStats>, TrainError> {
         .enumerate()
         .filter(|(_, l)| !l.trim().is_empty())
         .map(|(i, l)| {
-            serde_json::from_str(l).map_err(|e| TrainError::Mismatch {
+            serde_json::from_str(l).map_err(|source| TrainError::Json {
                 path: format!("{}:{}", path.display(), i + 1),
-                message: e.to_string(),
+                what: "metrics line",
+                source,
             })
         })
         .collect()

@@ -594,6 +594,35 @@ fn corrupt_and_mismatched_files_give_clear_errors() {
         e.contains("mixed.ykp") && e.contains("cannot load the network"),
         "{e}"
     );
+
+    // A header that is not JSON: a typed error that keeps serde's as its source.
+    let mut file = Container::read(&pol).unwrap();
+    file.header = "{ not json".into();
+    let garbled = dir.join("garbled.ykp");
+    file.write_atomic(&garbled).unwrap();
+    match TrainedPolicy::load(&garbled) {
+        Err(
+            e @ TrainError::Json {
+                what: "unreadable header",
+                ..
+            },
+        ) => {
+            assert!(e.to_string().contains("garbled.ykp"), "{e}");
+            let source = std::error::Error::source(&e).expect("serde's error kept");
+            assert!(source.is::<serde_json::Error>(), "{source}");
+        }
+        other => panic!("{:?}", other.err()),
+    }
+    // A metrics file that cannot be read keeps the I/O error, with its path.
+    match yokai_train::read_metrics(&dir.join("no-such-run")) {
+        Err(e @ TrainError::Io { .. }) => {
+            assert!(e.to_string().contains("metrics.jsonl"), "{e}");
+            let source = std::error::Error::source(&e).expect("the I/O error kept");
+            let io = source.downcast_ref::<std::io::Error>().unwrap();
+            assert_eq!(io.kind(), std::io::ErrorKind::NotFound);
+        }
+        other => panic!("{:?}", other.err()),
+    }
 }
 
 fn err<T>(r: Result<T, TrainError>) -> String {

@@ -28,9 +28,10 @@ pub struct FileHeader {
 }
 
 pub(crate) fn read_header(file: &Container, path: &Path) -> Result<FileHeader, TrainError> {
-    serde_json::from_str(&file.header).map_err(|e| TrainError::Mismatch {
+    serde_json::from_str(&file.header).map_err(|source| TrainError::Json {
         path: path.display().to_string(),
-        message: format!("unreadable header: {e}"),
+        what: "unreadable header",
+        source,
     })
 }
 
@@ -106,11 +107,12 @@ impl PolicyFile {
         let header = read_header(&file, &path)?;
         let shown = path.display().to_string();
         let config = TrainConfig::from_toml_str(&header.train_config, &shown)?;
-        let game =
-            Config::from_toml_str(&header.game, &shown).map_err(|e| TrainError::Mismatch {
+        let game = Config::from_toml_str(&header.game, &shown).map_err(|source| {
+            TrainError::GameConfig {
                 path: shown,
-                message: format!("game config: {e}"),
-            })?;
+                source,
+            }
+        })?;
         Ok(PolicyFile {
             path,
             file,

@@ -35,20 +35,23 @@ pub(crate) fn write<M: Module>(
         |store, (key, value)| store.metadata(*key, value.clone()),
     );
     let existed = path.exists();
-    let io = |message: String| TrainError::Io {
-        path: path.display().to_string(),
-        message,
-    };
     model
         .save_into(&mut store)
-        .map_err(|e| io(format!("cannot write SafeTensors: {e}")))?;
+        .map_err(|e| TrainError::Export {
+            path: path.to_path_buf(),
+            message: e.to_string(),
+        })?;
     // burn-store writes through a private scratch file (mode 0600) and keeps the mode of a
     // file it replaces; a new export is meant to be shared, like the policy files.
     #[cfg(unix)]
     if !existed {
         use std::os::unix::fs::PermissionsExt;
-        std::fs::set_permissions(path, std::fs::Permissions::from_mode(0o644))
-            .map_err(|e| io(e.to_string()))?;
+        std::fs::set_permissions(path, std::fs::Permissions::from_mode(0o644)).map_err(
+            |source| TrainError::Io {
+                path: path.to_path_buf(),
+                source,
+            },
+        )?;
     }
     Ok(())
 }

@@ -142,10 +142,11 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
                 message: format!("optimizer: {e}"),
             })?;
         let state: LoopState =
-            serde_json::from_slice(file.section(path, "state")?).map_err(|e| {
-                TrainError::Mismatch {
+            serde_json::from_slice(file.section(path, "state")?).map_err(|source| {
+                TrainError::Json {
                     path: shown.clone(),
-                    message: format!("loop state: {e}"),
+                    what: "loop state",
+                    source,
                 }
             })?;
         let n = trainer.config.ppo.num_envs;
