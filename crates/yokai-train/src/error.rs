@@ -17,8 +17,14 @@ pub enum TrainError {
     /// A file that does not fit what reads it (another network, sizes that disagree).
     #[error("{path}: {message}")]
     Mismatch { path: String, message: String },
-    #[error("{path}: cannot load the network: {message}")]
-    Record { path: String, message: String },
+    /// burn could not read or apply a record (`what`: the network or the optimiser).
+    #[error("{path}: cannot load the {what}: {source}")]
+    Record {
+        path: String,
+        what: &'static str,
+        #[source]
+        source: Box<dyn std::error::Error + Send + Sync>,
+    },
     #[error("{}: {source}", path.display())]
     Io {
         path: PathBuf,

@@ -37,15 +37,16 @@ pub(crate) fn read_header(file: &Container, path: &Path) -> Result<FileHeader, T
 
 /// Load network weights, refusing any record whose tensors do not match the network.
 pub(crate) fn load_model<M: Module>(model: M, bytes: &[u8], path: &str) -> Result<M, TrainError> {
-    let unreadable = |e: String| TrainError::Record {
+    let unreadable = |source: Box<dyn std::error::Error + Send + Sync>| TrainError::Record {
         path: path.to_string(),
-        message: e,
+        what: "network",
+        source,
     };
-    let bytes = with_current_names(bytes).map_err(|e| unreadable(e.to_string()))?;
-    let record = ModuleRecord::from_bytes(bytes).map_err(|e| unreadable(e.to_string()))?;
+    let bytes = with_current_names(bytes).map_err(|e| unreadable(e.into()))?;
+    let record = ModuleRecord::from_bytes(bytes).map_err(|e| unreadable(e.into()))?;
     model
         .try_load_record(record)
-        .map_err(|e| unreadable(e.to_string()))
+        .map_err(|e| unreadable(e.into()))
 }
 
 /// The network's fields renamed since files were first written, as tensor path prefixes

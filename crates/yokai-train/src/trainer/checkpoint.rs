@@ -139,7 +139,8 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             .from_bytes(Bytes::from_bytes_vec(optim))
             .map_err(|e| TrainError::Record {
                 path: shown.clone(),
-                message: format!("optimizer: {e}"),
+                what: "optimiser",
+                source: e.into(),
             })?;
         let state: LoopState =
             serde_json::from_slice(file.section(path, "state")?).map_err(|source| {
