@@ -30,6 +30,9 @@ if [ ! -x .venv/bin/python ]; then
     python3 -m venv .venv
 fi
 .venv/bin/python -m pip install --quiet --upgrade pip
+# The distribution was called `yokai` before 2026-11-25 (a name PyPI gives another
+# project): a venv made then holds it under that name, which would shadow the new one.
+.venv/bin/python -m pip uninstall --quiet --yes yokai > /dev/null 2>&1 || true
 .venv/bin/python -m pip install --quiet "./python[test]"
 # PyTorch for the test of python/examples/ppo_torch.py (PyPI's Linux wheel is the CUDA
 # build: about 1.5 min and 5 GB the first time; it runs on the CPU without a GPU). PyPI's
@@ -83,5 +86,6 @@ fi
 rm -rf target/lean-wheel
 MATURIN_PEP517_ARGS="--no-default-features" .venv/bin/python -m pip wheel --quiet --no-deps \
     -w target/lean-wheel ./python
+.venv-lean/bin/python -m pip uninstall --quiet --yes yokai > /dev/null 2>&1 || true
 .venv-lean/bin/python -m pip install --quiet --force-reinstall target/lean-wheel/*.whl
 YOKAI_LEAN_PYTHON="$PWD/.venv-lean/bin/python" .venv/bin/python -m pytest -q -rs python/tests

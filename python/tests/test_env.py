@@ -141,3 +141,12 @@ def test_step_joint_with_noops_for_the_waiting_seats_is_step():
         assert joint.step_joint(actions) == one.step(action)
         assert joint.render() == one.render()
     assert joint.done and joint.outcome == one.outcome and joint.history == one.history
+
+
+def test_the_distribution_is_named_yokai_learning_environment():
+    # `yokai` on PyPI is another project: the package installs as this name and imports as
+    # `yokai`, at the version the module reports.
+    from importlib import metadata
+
+    assert metadata.version("yokai-learning-environment") == yokai.__version__
+    assert metadata.metadata("yokai-learning-environment")["License"] == "MIT OR Apache-2.0"

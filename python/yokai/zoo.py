@@ -9,7 +9,9 @@ Agents are ``"seat_0"`` … ``"seat_{P-1}"``. Each observation is a dict with
 (int8, 1 = legal; only NOOP for seats that are not acting), as PettingZoo's classic games
 do. All seats share the team reward: the game reward R on the final step, plus the shaping
 reward of each step when ``shaping=True``. Games always end by themselves, so there are no
-truncations. Needs the ``pettingzoo`` extra: ``pip install "yokai[pettingzoo]"``.
+truncations. Needs the ``pettingzoo`` extra: ``pip install "./python[pettingzoo]"`` from the
+repository (the distribution is ``yokai-learning-environment``; ``yokai`` on PyPI is
+another project).
 """
 
 from __future__ import annotations
