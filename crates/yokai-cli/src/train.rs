@@ -67,6 +67,13 @@ pub struct Args {
     /// Override the config's total environment steps.
     #[arg(long)]
     steps: Option<u64>,
+    /// Set one field of the training config, as in the file: `--set ppo.lr=1e-3 --set
+    /// network.head=pointer` (repeatable; later ones win). The value is read as TOML, or
+    /// as a string where it is not TOML. An unknown field or a bad value is refused, and
+    /// the run's saved config.toml shows the result. Not with --resume (the checkpoint's
+    /// config governs a resumed run).
+    #[arg(long = "set", value_name = "FIELD=VALUE", conflicts_with = "resume")]
+    set: Vec<yokai_train::Override>,
     /// Start each new run from the weights of a trained policy (fine-tuning, curricula):
     /// a policy file, a checkpoint, a run directory, or a directory of `seed-N` runs (seed
     /// N then starts from `seed-N`). The network and game must match the config's; the
@@ -102,9 +109,14 @@ pub fn parse_seeds(text: &str) -> anyhow::Result<Vec<u64>> {
     yokai_agents::parse_seeds(text).map_err(|e| anyhow!("--seeds {e}"))
 }
 
-fn load_config(name: &str) -> anyhow::Result<(TrainConfig, String)> {
+/// The config named `name` (a preset or a file) with `overrides` applied, and its name.
+fn load_config(
+    name: &str,
+    overrides: &[yokai_train::Override],
+) -> anyhow::Result<(TrainConfig, String)> {
     if let Some((preset, text)) = PRESETS.iter().find(|(n, _)| *n == name) {
-        let config = TrainConfig::from_toml_str(text, &format!("configs/{preset}.toml"))?;
+        let origin = format!("configs/{preset}.toml");
+        let config = TrainConfig::from_toml_with(text, &origin, overrides)?;
         return Ok((config, preset.to_string()));
     }
     let path = Path::new(name);
@@ -115,7 +127,9 @@ fn load_config(name: &str) -> anyhow::Result<(TrainConfig, String)> {
             names.join(", ")
         ));
     }
-    let config = TrainConfig::from_file(path)?;
+    let text = std::fs::read_to_string(path)
+        .with_context(|| format!("cannot read training config {}", path.display()))?;
+    let config = TrainConfig::from_toml_with(&text, &path.display().to_string(), overrides)?;
     let stem = path
         .file_stem()
         .map_or("run".into(), |s| s.to_string_lossy().to_string());
@@ -131,7 +145,7 @@ impl Args {
 
 pub fn run(args: Args) -> anyhow::Result<()> {
     let seeds = parse_seeds(&args.seeds)?;
-    let (mut config, name) = load_config(&args.config)?;
+    let (mut config, name) = load_config(&args.config, &args.set)?;
     if let Some(steps) = args.steps {
         config.ppo.total_steps = steps;
     }

@@ -5,13 +5,15 @@
 //! default. The resolved configuration (every field written out) is saved with each run.
 //!
 //! One file per section, each struct beside its defaults and checks: [`ppo`], [`network`],
-//! [`algorithm`], [`obl`], [`act`], [`run`]; this module holds the whole config, its file
-//! I/O and the rules that tie sections together.
+//! [`algorithm`], [`obl`], [`act`], [`run`]; [`overrides`] applies `FIELD=VALUE` overrides
+//! (`yokai train --set`); this module holds the whole config, its file I/O and the rules
+//! that tie sections together.
 
 mod act;
 mod algorithm;
 mod network;
 mod obl;
+mod overrides;
 mod ppo;
 mod run;
 
@@ -21,6 +23,7 @@ pub use network::{
     ActionHead, CriticInput, EncoderKind, MemoryKind, NetworkConfig, NetworkPreset, GRAPH_HEADS,
 };
 pub use obl::{OblConfig, OblPartner};
+pub use overrides::Override;
 pub use ppo::{EndForm, PpoConfig};
 pub use run::RunConfig;
 
@@ -73,6 +76,9 @@ pub enum TrainConfigError {
         field: &'static str,
         message: String,
     },
+    /// A `--set FIELD=VALUE` that does not fit the config.
+    #[error("--set {set}: {message}")]
+    Override { set: String, message: String },
     #[error("training config {origin}: game: {source}")]
     Game {
         origin: String,

@@ -1,0 +1,82 @@
+//! `yokai train --set FIELD=VALUE`: overrides reach the run and its saved config, and bad
+//! ones are refused before anything is written.
+
+mod common;
+use common::{yokai_err, yokai_ok};
+
+#[test]
+fn overrides_reach_the_saved_config_and_the_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("runs");
+    let out_s = out.to_str().unwrap();
+    yokai_ok(&[
+        "train",
+        "quick",
+        "--seeds",
+        "0",
+        "--threads",
+        "1",
+        "--eval-games",
+        "0",
+        "--out",
+        out_s,
+        "--set",
+        "ppo.num_envs=8",
+        "--set",
+        "ppo.rollout_steps=8",
+        "--set",
+        "ppo.total_steps=128",
+        "--set",
+        "network.hidden=16",
+        "--set",
+        "run.log_every=1",
+        "--set",
+        "ppo.lr=0.002",
+    ]);
+    let run = out.join("seed-0");
+    let saved: toml::Table = std::fs::read_to_string(run.join("config.toml"))
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert_eq!(saved["ppo"]["num_envs"].as_integer(), Some(8));
+    assert_eq!(saved["ppo"]["lr"].as_float(), Some(0.002));
+    assert_eq!(saved["network"]["hidden"].as_integer(), Some(16));
+    // What the preset sets and no override touched stays the preset's.
+    assert_eq!(saved["network"]["critic"].as_str(), Some("central"));
+    // 128 steps of 8 games × 8 steps: two updates, each logged, at the overridden rate.
+    let metrics = std::fs::read_to_string(run.join("metrics.jsonl")).unwrap();
+    let lines: Vec<serde_json::Value> = metrics
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(lines.len(), 2);
+    assert_eq!(lines[1]["env_steps"], 128);
+    assert!((lines[0]["lr"].as_f64().unwrap() - 0.002).abs() < 1e-3);
+}
+
+#[test]
+fn bad_overrides_are_refused_naming_them_and_nothing_is_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("runs");
+    let out_s = out.to_str().unwrap();
+    let err = yokai_err(&["train", "quick", "--out", out_s, "--set", "ppo.lrr=1"]);
+    assert!(
+        err.contains("--set ppo.lrr=1: unknown field `lrr`"),
+        "{err}"
+    );
+    assert!(err.contains("`lr`"), "{err}");
+    let err = yokai_err(&["train", "quick", "--out", out_s, "--set", "ppo.epochs=many"]);
+    assert!(err.contains("--set ppo.epochs=many"), "{err}");
+    let err = yokai_err(&["train", "quick", "--out", out_s, "--set", "ppo.num_envs=0"]);
+    assert!(
+        err.contains("configs/quick.toml with --set ppo.num_envs=0"),
+        "{err}"
+    );
+    let err = yokai_err(&["train", "quick", "--out", out_s, "--set", "lr"]);
+    assert!(err.contains("FIELD=VALUE"), "{err}");
+    let err = yokai_err(&[
+        "train", "quick", "--out", out_s, "--resume", "--set", "ppo.lr=1",
+    ]);
+    assert!(err.contains("--resume"), "{err}");
+    assert!(!out.exists(), "a refused command wrote {}", out.display());
+}
