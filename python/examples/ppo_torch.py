@@ -20,7 +20,9 @@ Run (defaults are the paper's IPPO hyper-parameters, docs/spec/training.md):
     python python/examples/ppo_torch.py --config 9c-2p-perfect --total-steps 10000000
 
 The environment steps on the CPU (`--threads`, default all cores) and the network on
-`--device` (default: cuda if available). `--log` writes one JSON line per update.
+`--device` (default: cuda if available). `--log` writes one JSON line per update,
+`--tensorboard DIR` TensorBoard event files (PyTorch's SummaryWriter), `--wandb-project NAME`
+logs to Weights & Biases where `wandb` is installed.
 `--checkpoint PATH` saves the network, optimiser and update count after every update;
 `--resume` continues from it (with freshly dealt games), so a run longer than a job's time
 limit goes on across jobs with `--max-updates` per job.
@@ -73,6 +75,8 @@ class Args:
     threads: int = 0
     max_updates: int = 0  # stop this call after so many updates (0: run to total_steps)
     log: str = ""
+    tensorboard: str = ""  # write TensorBoard event files into this directory (SummaryWriter)
+    wandb_project: str = ""  # also log to Weights & Biases under this project (needs wandb)
     checkpoint: str = ""  # save network, optimiser and update count here after every update
     resume: bool = False  # continue from --checkpoint (new games are dealt)
 
@@ -86,6 +90,43 @@ def parse_args(argv=None) -> Args:
         else:
             parser.add_argument(flag, type=type(default), default=default)
     return Args(**vars(parser.parse_args(argv)))
+
+
+def run_logger(args: Args):
+    """A function that logs an update's numbers (x axis: env steps) to TensorBoard with
+    PyTorch's `SummaryWriter` (`--tensorboard DIR`) and to W&B (`--wandb-project NAME`);
+    it does nothing when neither is asked for."""
+    sinks = []
+    if args.tensorboard:
+        from torch.utils.tensorboard import SummaryWriter  # needs the `tensorboard` package
+
+        tb = SummaryWriter(args.tensorboard)
+
+        def to_tensorboard(scalars, step):
+            for tag, value in scalars.items():
+                tb.add_scalar(tag, value, step)
+            tb.flush()
+
+        sinks.append(to_tensorboard)
+    if args.wandb_project:
+        try:
+            import wandb
+        except ImportError:
+            raise SystemExit("--wandb-project needs Weights & Biases: pip install wandb") from None
+        wandb.init(project=args.wandb_project, config=dict(args.__dict__))
+        sinks.append(lambda scalars, step: wandb.log(scalars, step=step))
+
+    def log(line: dict):
+        group = {"games": "games", "reward": "games", "early_end": "games"}
+        scalars = {
+            f"{group.get(k, 'train')}/{k}": float(v)
+            for k, v in line.items()
+            if k not in ("update", "env_steps") and isinstance(v, (int, float))
+        }
+        for sink in sinks:
+            sink(scalars, line["env_steps"])
+
+    return log
 
 
 def orthogonal(layer: nn.Module, gain: float = 2**0.5) -> nn.Module:
@@ -155,6 +196,7 @@ def main(argv=None) -> list[dict]:
         env = yokai.VecEnv(args.config, num_envs=n, seed=yokai.episode_seed(args.seed, 0, first),
                            obs="image-chw", dtype="float32", threads=args.threads or None)
     last = updates if not args.max_updates else min(updates, first - 1 + args.max_updates)
+    writer = run_logger(args)
 
     # Rollout storage, on the device: `[T, rows, ...]`.
     obs_buf = torch.zeros((t_n, rows, *obs_shape), device=device)
@@ -276,6 +318,7 @@ def main(argv=None) -> list[dict]:
         if args.log:
             with open(args.log, "a") as f:
                 f.write(json.dumps(line) + "\n")
+        writer(line)
         if args.checkpoint:
             state = {"net": net.state_dict(), "optim": optim.state_dict(), "update": update}
             torch.save(state, args.checkpoint + ".tmp")

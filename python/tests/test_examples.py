@@ -30,7 +30,7 @@ def test_ppo_torch_runs_updates_on_cpu_with_legal_actions(tmp_path):
     # action for the acting seat or anything but NOOP for a waiting one.
     argv = ["--num-envs", "8", "--rollout-steps", "40", "--minibatches", "2", "--epochs", "2",
             "--hidden", "32", "--filters", "8", "--max-updates", "2", "--device", "cpu",
-            "--threads", "1", "--log", str(log_file)]
+            "--threads", "1", "--log", str(log_file), "--tensorboard", str(tmp_path / "tb")]
     log = example.main(argv)
     assert [line["update"] for line in log] == [1, 2]
     assert [line["env_steps"] for line in log] == [8 * 40, 2 * 8 * 40]
@@ -42,6 +42,14 @@ def test_ppo_torch_runs_updates_on_cpu_with_legal_actions(tmp_path):
         assert all(math.isfinite(line[k]) for k in ("policy_loss", "value_loss", "entropy"))
         # The masked entropy of a near-uniform initial policy over the legal moves is large.
         assert line["entropy"] > 1.0
+    # The same figures in TensorBoard, at the env steps, read back with TensorBoard's reader.
+    accumulator = pytest.importorskip("tensorboard.backend.event_processing.event_accumulator")
+    acc = accumulator.EventAccumulator(str(tmp_path / "tb"))
+    acc.Reload()
+    for tag, key in [("games/reward", "reward"), ("train/policy_loss", "policy_loss")]:
+        points = acc.Scalars(tag)
+        assert [p.step for p in points] == [line["env_steps"] for line in log]
+        assert [p.value for p in points] == pytest.approx([line[key] for line in log], rel=1e-6)
 
 
 def test_ppo_torch_defaults_are_the_paper_preset_of_yokai_train(capsys):

@@ -6,6 +6,8 @@
 //! RUN/metrics.jsonl    one JSON line per logged update (step, SPS, R, win, SEE, EE, WEE, LEN, losses, entropy)
 //! RUN/belief.jsonl     OBL levels ≥ 2: one JSON line per update of the belief model (its
 //!                      cross-entropy and the first-hand baseline's, nats per unseen card)
+//! RUN/events.out.tfevents.*  the same figures for TensorBoard (`tensorboard --logdir RUN`),
+//!                      a new file on each resume
 //! RUN/checkpoint.ykc   network, optimiser and loop state, replaced atomically
 //! RUN/policy.ykp       the final policy, loadable by `yokai eval` and Python
 //! RUN/replays/         at every checkpoint, the last finished training game of env 0
@@ -13,6 +15,7 @@
 
 use crate::artifact::names::{BELIEF_METRICS, CHECKPOINT, METRICS, POLICY};
 use crate::artifact::read_header;
+use crate::artifact::tensorboard::{scalars_of, EventWriter};
 use crate::backend::Backend;
 use crate::config::TrainConfig;
 use crate::error::TrainError;
@@ -111,6 +114,8 @@ fn run<E: Encoder, M: Recurrent>(
         .append(true)
         .open(&metrics_path)
         .map_err(|e| io(&metrics_path, e))?;
+    let resumed_at = (trainer.update_count() > 0).then_some(steps_before);
+    let mut events = EventWriter::create(dir, resumed_at).map_err(|e| io(dir, e))?;
     let (log_every, ckpt_every) = (
         trainer.config().run.log_every,
         trainer.config().run.checkpoint_every,
@@ -125,6 +130,11 @@ fn run<E: Encoder, M: Recurrent>(
         if u % log_every == 0 || u == total {
             let line = serde_json::to_string(&stats).expect("stats serialise");
             writeln!(log, "{line}").map_err(|e| io(&metrics_path, e))?;
+            let value = serde_json::to_value(&stats).expect("stats serialise");
+            let scalars = scalars_of(&value, "train", &["update", "env_steps"]);
+            events
+                .scalars(stats.env_steps, &scalars)
+                .map_err(|e| io(events.path(), e))?;
         }
         if u % ckpt_every == 0 || u == total {
             trainer.checkpoint().write_atomic(&checkpoint)?;

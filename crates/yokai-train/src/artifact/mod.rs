@@ -6,6 +6,7 @@ pub mod container;
 pub mod header;
 pub mod names;
 pub mod safetensors;
+pub mod tensorboard;
 
 pub use container::Container;
 pub use header::{check_game, FileHeader};
