@@ -70,6 +70,21 @@ impl PyAgent {
         })
     }
 
+    /// Seed ``seed`` of the pretrained agents of ``preset``, built into the package
+    /// (``yokai.pretrained_agents()`` lists them with their scores), as
+    /// ``Agent("pretrained:PRESET/SEED", agent_seed, end)``: ``agent_seed`` seeds the
+    /// agent's draws.
+    #[staticmethod]
+    #[pyo3(signature = (preset, seed=0, agent_seed=0, end=None))]
+    fn pretrained(
+        preset: &str,
+        seed: u64,
+        agent_seed: u64,
+        end: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<Self> {
+        PyAgent::new(&format!("pretrained:{preset}/{seed}"), agent_seed, end)
+    }
+
     /// Start a new game.
     fn reset(&mut self, seed: u64) {
         self.policy().reset(seed);
@@ -147,7 +162,7 @@ fn seat(name: &str, seed: u64, end: Option<&Bound<'_, PyAny>>) -> PyResult<Seate
 /// Without the trainer only the bots can sit: a path or an END rule is refused.
 #[cfg(not(feature = "trained"))]
 fn seat(name: &str, seed: u64, end: Option<&Bound<'_, PyAny>>) -> PyResult<Seated> {
-    if Path::new(name).exists() {
+    if Path::new(name).exists() || name.starts_with("pretrained:") {
         return Err(config_error(format!(
             "`{name}` is a trained policy, but this build of yokai has no trained-policy support \
              (built with --no-default-features): install it with the default features"
@@ -183,6 +198,30 @@ fn end_rule(end: &Bound<'_, PyAny>) -> PyResult<EndRule> {
     end.extract::<f64>().map(EndRule::Threshold).map_err(|_| {
         pyo3::exceptions::PyTypeError::new_err("end must be None, \"draw\" or a float in (0, 1)")
     })
+}
+
+/// The pretrained agents built into the package, one dict per preset: ``preset``,
+/// ``about``, ``command`` (how they were trained), ``steps``, ``seeds``, and their
+/// self-play score with themselves, ``sp_r`` and ``sp_se`` per seed over ``games`` games.
+#[cfg(feature = "trained")]
+#[pyfunction]
+pub fn pretrained_agents<'py>(py: Python<'py>) -> PyResult<Vec<Bound<'py, pyo3::types::PyDict>>> {
+    use pyo3::types::PyDict;
+    yokai_train::pretrained::entries()
+        .into_iter()
+        .map(|e| {
+            let d = PyDict::new(py);
+            d.set_item("preset", e.preset)?;
+            d.set_item("about", e.about)?;
+            d.set_item("command", e.command)?;
+            d.set_item("steps", e.steps)?;
+            d.set_item("seeds", e.seeds)?;
+            d.set_item("sp_r", e.sp_r)?;
+            d.set_item("sp_se", e.sp_se)?;
+            d.set_item("games", e.games)?;
+            Ok(d)
+        })
+        .collect()
 }
 
 /// Every parameter of the trained network at ``path`` (policy file, checkpoint or run

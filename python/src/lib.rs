@@ -49,6 +49,7 @@ fn yokai_core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     #[cfg(feature = "trained")]
     {
         m.add_function(wrap_pyfunction!(agent::policy_parameters, m)?)?;
+        m.add_function(wrap_pyfunction!(agent::pretrained_agents, m)?)?;
         m.add_function(wrap_pyfunction!(probe::probe_records, m)?)?;
         m.add_function(wrap_pyfunction!(probe::probe_accuracy, m)?)?;
     }

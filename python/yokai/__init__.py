@@ -24,7 +24,7 @@ from ._core import (
 )
 
 try:  # absent from a wheel built with --no-default-features (no trainer, no burn)
-    from ._core import policy_parameters, probe_accuracy, probe_records
+    from ._core import policy_parameters, pretrained_agents, probe_accuracy, probe_records
 except ImportError:  # pragma: no cover - exercised by the no-default-features build only
 
     def _needs_trainer(*_args, **_kwargs):
@@ -33,7 +33,7 @@ except ImportError:  # pragma: no cover - exercised by the no-default-features b
             "install it with the default features for trained policies and probes"
         )
 
-    policy_parameters = probe_accuracy = probe_records = _needs_trainer
+    policy_parameters = pretrained_agents = probe_accuracy = probe_records = _needs_trainer
 
 __all__ = [
     "ConfigError",
@@ -46,6 +46,7 @@ __all__ = [
     "configs",
     "episode_seed",
     "policy_parameters",
+    "pretrained_agents",
     "probe_accuracy",
     "probe_records",
 ]

@@ -31,6 +31,12 @@ def configs() -> list[str]:
 def policy_parameters(path: str) -> np.ndarray:
     """Every parameter of the trained network at ``path``, flattened (float32)."""
 
+def pretrained_agents() -> list[dict]:
+    """The pretrained agents built in, one dict per preset: ``preset``, ``about``,
+    ``command``, ``steps``, ``seeds``, and self-play ``sp_r`` / ``sp_se`` per seed over
+    ``games`` games. Seat one with ``Agent.pretrained(preset, seed)`` or the name
+    ``"pretrained:PRESET/SEED"``."""
+
 def probe_records(
     policies: list[str], probed: list[bool] | None = None, games: int = 500, seed: int = 0
 ) -> dict[str, np.ndarray]:
@@ -155,14 +161,19 @@ class Env:
     def config(self) -> str: ...
 
 class Agent:
-    """A built-in policy ("random", "greedy", "belief", "belief:continue_win=0.9") or a
-    trained policy (the path of a policy file, checkpoint or run directory) for one seat;
+    """A built-in policy ("random", "greedy", "belief", "belief:continue_win=0.9"), a
+    pretrained agent ("pretrained:quick/0") or a trained policy (the path of a policy file,
+    checkpoint or run directory) for one seat;
     sees only what its seat may know. Show it every action with ``observe`` before
     ``env.step``. ``end`` (trained policies only): ``None`` plays END as the training
     config says, ``"draw"`` draws it like any action, a probability ``p`` in (0, 1) ends
     wherever the network gives END more than ``p``."""
 
     def __init__(self, name: str, seed: int = 0, end: float | str | None = None) -> None: ...
+    @staticmethod
+    def pretrained(preset: str, seed: int = 0, agent_seed: int = 0, end: float | str | None = None) -> Agent:
+        """Seed ``seed`` of the pretrained agents of ``preset`` (``pretrained_agents()``);
+        ``agent_seed`` seeds its draws."""
     def reset(self, seed: int) -> None: ...
     def act(self, env: Env) -> int:
         """The action index it plays as the acting seat of ``env``."""

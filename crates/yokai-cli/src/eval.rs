@@ -16,7 +16,8 @@ use yokai_train::{EndRule, PolicySource};
 #[derive(clap::Args)]
 pub struct Args {
     /// Policies: built-in names (`random`, `greedy`, `belief`), with parameters as
-    /// `belief:continue_win=0.9`, or paths of trained policy files, checkpoints or run
+    /// `belief:continue_win=0.9`, pretrained agents built in (`pretrained:quick/0`; an
+    /// unknown name lists them), or paths of trained policy files, checkpoints or run
     /// directories. Every pair (a policy with itself included) plays.
     #[arg(required = true)]
     policies: Vec<String>,

@@ -294,3 +294,32 @@ fn policies_under_a_folder_are_offered_by_name_and_play() {
     );
     assert_eq!(status, 400);
 }
+
+/// `--seats human,pretrained:quick/0` seats a pretrained agent built into the binary,
+/// and a whole game plays against it; an unknown one stops the server at start, naming it.
+#[test]
+fn a_pretrained_agent_is_a_seat_by_name() {
+    let tmp = tempdir();
+    let server = Server::start(tmp.path(), "human,pretrained:quick/0", &[]);
+    let (_, offer) = server.get("/api/config");
+    let seats = offer["offered"]["seats"].as_array().unwrap();
+    assert!(seats.contains(&json!("pretrained:quick/0")), "{offer}");
+    let session = server.session();
+    let game = server.new_game(
+        &session,
+        json!({ "seats": ["human", "pretrained:quick/0"], "seed": 4 }),
+    );
+    assert_eq!(game["seats"], json!(["human", "pretrained:quick/0"]));
+    let end = play_out(&server, game, 3);
+    assert!(end["board"]["over"].as_bool().unwrap());
+    let out = Command::new(env!("CARGO_BIN_EXE_yokai"))
+        .args(["serve", "--port", "0", "--seats", "human,pretrained:nope/0"])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("no pretrained agent `pretrained:nope/0`"),
+        "{err}"
+    );
+}

@@ -10,8 +10,9 @@
 //! - [`backend`] (devices by name), then [`error`] (every error a person reads);
 //! - [`artifact`]: files on disk (container, header, run-directory names, SafeTensors);
 //! - [`network`]: the actor-critics;
-//! - [`policy`]: trained networks seated as players, and [`source`]: a policy by name (a
-//!   bot or a trained file) and its END rule, as every front end reads one;
+//! - [`policy`]: trained networks seated as players, [`pretrained`]: the agents built in,
+//!   and [`source`]: a policy by name (a bot, a pretrained agent or a trained file) and
+//!   its END rule, as every front end reads one;
 //! - algorithms: `actor` (the batched games as the seats see and play them), [`obl`]
 //!   (beliefs and fictitious continuations), then [`trainer`] (PPO);
 //! - [`probe`] and [`run`] (a run directory over the trainer).
@@ -29,6 +30,7 @@ pub mod error;
 pub mod artifact;
 pub mod network;
 pub mod policy;
+pub mod pretrained;
 pub mod source;
 
 pub(crate) mod actor;

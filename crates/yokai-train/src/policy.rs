@@ -113,7 +113,16 @@ impl TrainedPolicy {
     /// Load `path`: a policy file, a checkpoint, or a run directory (its `policy.ykp`, else
     /// its checkpoint).
     pub fn load(path: &Path) -> Result<TrainedPolicy, TrainError> {
-        let opened = PolicyFile::open(path)?;
+        TrainedPolicy::from_file(PolicyFile::open(path)?)
+    }
+
+    /// Load a policy file held in memory; `name` stands for its path in messages and
+    /// tables (the pretrained agents: `pretrained:quick/0`).
+    pub fn load_bytes(bytes: &[u8], name: &str) -> Result<TrainedPolicy, TrainError> {
+        TrainedPolicy::from_file(PolicyFile::from_bytes(bytes, name)?)
+    }
+
+    fn from_file(opened: PolicyFile) -> Result<TrainedPolicy, TrainError> {
         let device = default_device();
         let net = for_network(
             &opened.config.network,

@@ -1,6 +1,7 @@
 //! Where a seated policy comes from, as every front end names it: a built-in bot
-//! (`random`, `greedy`, `belief:continue_win=0.9`) or the path of a trained policy file,
-//! checkpoint or run directory; and how a trained policy plays END. `yokai eval`, `play`,
+//! (`random`, `greedy`, `belief:continue_win=0.9`), a pretrained agent built into the
+//! library (`pretrained:quick/0`), or the path of a trained policy file, checkpoint or run
+//! directory; and how a trained policy plays END. `yokai eval`, `play`,
 //! `serve`, `train`'s evaluation and Python's `yokai.Agent` all read policies through this
 //! one definition.
 
@@ -61,9 +62,12 @@ pub enum SourceError {
     Trained(#[from] TrainError),
     /// Neither an existing path nor a built-in name.
     #[error(
-        "{0}; a trained policy is given as the path of a policy file, checkpoint or run directory"
+        "{0}; a trained policy is given as the path of a policy file, checkpoint or run directory, or as pretrained:PRESET/SEED"
     )]
     Unknown(#[source] yokai_agents::SpecError),
+    /// `pretrained:…` naming no agent built in, or a damaged one.
+    #[error(transparent)]
+    Pretrained(#[from] crate::pretrained::PretrainedError),
     /// An END rule given to a bot, which keeps its own.
     #[error("an END rule sets how a trained policy plays END; `{0}` is not a trained policy but a built-in bot")]
     EndRuleForBot(String),
@@ -77,9 +81,14 @@ pub enum PolicySource {
 }
 
 impl PolicySource {
-    /// An existing path is a trained policy (policy file, checkpoint or run directory);
-    /// anything else must be a built-in name.
+    /// `pretrained:PRESET/SEED` is an agent built into the library; an existing path is a
+    /// trained policy (policy file, checkpoint or run directory); anything else must be a
+    /// built-in name.
     pub fn parse(text: &str) -> Result<PolicySource, SourceError> {
+        if text.starts_with(crate::pretrained::PREFIX) {
+            let policy = crate::pretrained::load(text)?;
+            return Ok(PolicySource::Trained(Box::new(policy)));
+        }
         let path = Path::new(text);
         if path.exists() {
             return Ok(PolicySource::Trained(Box::new(TrainedPolicy::load(path)?)));

@@ -17,7 +17,8 @@ pub struct Args {
     #[arg(short, long, default_value = "9c-2p-perfect")]
     config: String,
     /// Who sits where, seat 0 first, comma-separated: `human`, a built-in policy (`random`,
-    /// `greedy`, `belief`) or a trained policy's path. Missing seats are filled with
+    /// `greedy`, `belief`), a pretrained agent (`pretrained:quick/0`) or a trained
+    /// policy's path. Missing seats are filled with
     /// `belief`. Several humans play hot-seat: the board is hidden between their turns.
     #[arg(short, long, default_value = "human")]
     seats: String,

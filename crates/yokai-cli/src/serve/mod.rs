@@ -64,7 +64,8 @@ pub struct Args {
     #[arg(long, default_value = "127.0.0.1")]
     host: String,
     /// Default seats of a new game, seat 0 first: `human`, a built-in bot (`random`,
-    /// `greedy`, `belief`, with parameters if you like) or a trained policy's path. Missing
+    /// `greedy`, `belief`, with parameters if you like), a pretrained agent
+    /// (`pretrained:quick/0`) or a trained policy's path. Missing
     /// seats get `belief`; several humans play hot-seat. Every seat named here is offered
     /// to the page by the name written here.
     #[arg(long, default_value = "human,belief")]

@@ -105,6 +105,18 @@ impl PolicyFile {
     pub fn open(path: &Path) -> Result<PolicyFile, TrainError> {
         let path = policy_file(path);
         let file = Container::read(&path)?;
+        PolicyFile::from_container(file, path)
+    }
+
+    /// A policy file held in memory (the pretrained agents built into the library);
+    /// `name` stands for its path in messages and tables.
+    pub fn from_bytes(bytes: &[u8], name: &str) -> Result<PolicyFile, TrainError> {
+        let path = PathBuf::from(name);
+        let file = Container::from_bytes(bytes, &path)?;
+        PolicyFile::from_container(file, path)
+    }
+
+    fn from_container(file: Container, path: PathBuf) -> Result<PolicyFile, TrainError> {
         let header = read_header(&file, &path)?;
         let shown = path.display().to_string();
         let config = TrainConfig::from_toml_str(&header.train_config, &shown)?;
