@@ -33,7 +33,22 @@ fi
 # The distribution was called `yokai` before 2026-11-25 (a name PyPI gives another
 # project): a venv made then holds it under that name, which would shadow the new one.
 .venv/bin/python -m pip uninstall --quiet --yes yokai > /dev/null 2>&1 || true
-.venv/bin/python -m pip install --quiet "./python[test]"
+# The wheel a user without Rust installs, built as `pip wheel ./python` builds it: abi3
+# (one wheel for every CPython >= 3.9), tagged manylinux_2_34, the newest glibc symbols
+# this Debian 12 build links (a release builds in a manylinux container for older
+# systems: .github/workflows/wheels.yml). The test venv installs that same wheel.
+rm -rf target/wheel
+MATURIN_PEP517_ARGS="--compatibility manylinux_2_34" .venv/bin/python -m pip wheel --quiet \
+    --no-deps -w target/wheel ./python
+wheel=$(ls target/wheel/*.whl)
+.venv/bin/python -m pip install --quiet --force-reinstall --no-deps "$wheel"
+.venv/bin/python -m pip install --quiet "${wheel}[test]"
+# ... and a fresh venv with only the wheel and PettingZoo, for test_wheel.py, which runs it
+# with no cargo on PATH.
+rm -rf .venv-wheel
+python3 -m venv .venv-wheel
+.venv-wheel/bin/python -m pip install --quiet "$wheel" "pettingzoo>=1.24" "gymnasium>=0.29"
+export YOKAI_WHEEL_PYTHON="$PWD/.venv-wheel/bin/python"
 # PyTorch for the test of python/examples/ppo_torch.py (PyPI's Linux wheel is the CUDA
 # build: about 1.5 min and 5 GB the first time; it runs on the CPU without a GPU). PyPI's
 # CDN has cut that download mid-file in CI (a CUDA wheel stuck at 136 of 151 MB through
