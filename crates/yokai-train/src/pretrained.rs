@@ -33,6 +33,9 @@ const SHIPPED: &[(&str, u64, &[u8])] = shipped!(
     ("cpu-fast", 0),
     ("cpu-fast", 1),
     ("cpu-fast", 2),
+    ("obl-cpu", 0),
+    ("obl-cpu", 1),
+    ("obl-cpu", 2),
 );
 
 /// `pretrained.toml`: how each preset's agents were made and what they score.

@@ -31,10 +31,10 @@ fn every_pretrained_agent_plays_at_its_documented_self_play_score() {
                 m.reward,
                 m.reward_se
             );
-            // A trained agent that never ENDs or never wins would not be worth shipping.
-            assert!(m.win_rate > 0.5 && m.early_end > 0.3, "{name}: {m:?}");
+            // Every agent shipped plays far above random play (R −4.0).
+            assert!(m.reward > 1.0, "{name}: {m:?}");
             checked += 1;
         }
     }
-    assert!(checked >= 6, "only {checked} agents checked");
+    assert!(checked >= 12, "only {checked} agents checked");
 }
