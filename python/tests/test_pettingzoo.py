@@ -5,7 +5,7 @@ import pytest
 
 pytest.importorskip("pettingzoo")
 
-from pettingzoo.test import api_test, parallel_api_test  # noqa: E402
+from pettingzoo.test import api_test, parallel_api_test, parallel_seed_test, seed_test  # noqa: E402
 
 import yokai  # noqa: E402
 from yokai import zoo  # noqa: E402
@@ -18,6 +18,31 @@ def test_parallel_api(config):
 
 def test_aec_api():
     api_test(zoo.env(config="9c-3p-perfect"), num_cycles=300)
+
+
+def test_seed_tests():
+    # The AEC test samples with the action masks, so it plays whole games; the parallel
+    # one samples without them, so it needs illegal actions to end the game, not raise.
+    seed_test(lambda: zoo.env(config="9c-2p-perfect"), num_cycles=200)
+    parallel_seed_test(lambda: zoo.parallel_env(config="9c-2p-perfect", illegal="end"), num_cycles=200)
+
+
+def test_an_illegal_action_ends_the_game_when_asked():
+    env = zoo.parallel_env(illegal="end", illegal_reward=-2.0)
+    obs, _ = env.reset(seed=3)
+    illegal = int(np.flatnonzero(obs["seat_0"]["action_mask"] == 0)[0])
+    _, rewards, terms, truncs, infos = env.step({"seat_0": illegal, "seat_1": 0})
+    assert rewards == {"seat_0": -2.0, "seat_1": -2.0}
+    assert all(terms.values()) and not any(truncs.values())
+    assert all(info["illegal"] for info in infos.values()) and env.agents == []
+    with pytest.raises(ValueError, match="illegal="):
+        zoo.parallel_env(illegal="skip")
+    # The default still refuses it and changes nothing.
+    strict = zoo.parallel_env()
+    strict.reset(seed=3)
+    with pytest.raises(yokai.IllegalActionError):
+        strict.step({"seat_0": illegal, "seat_1": 0})
+    assert strict.game.steps == 0
 
 
 def test_observations_lie_in_their_spaces_and_rewards_are_shared():

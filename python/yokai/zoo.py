@@ -44,7 +44,12 @@ class YokaiParallelEnv(ParallelEnv):
         shaping: bool = False,
         render_mode: Optional[str] = None,
         seed: int = 0,
+        illegal: str = "raise",
+        illegal_reward: float = -1.0,
     ) -> None:
+        if illegal not in ("raise", "end"):
+            raise ValueError(f"illegal={illegal!r}: 'raise' (an error, nothing changes) or 'end' (the game ends)")
+        self._illegal, self._illegal_reward = illegal, float(illegal_reward)
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ValueError(
                 f"render_mode must be one of {self.metadata['render_modes']} or None, "
@@ -110,8 +115,11 @@ class YokaiParallelEnv(ParallelEnv):
 
     def step(self, actions: dict[str, int]):
         """Play one step. The acting seat's action is required; the other seats may be
-        left out or must be NOOP (0). Raises ``yokai.IllegalActionError`` for an illegal
-        action (the game is unchanged)."""
+        left out or must be NOOP (0). An illegal action raises ``yokai.IllegalActionError``
+        (the game is unchanged), or with ``illegal="end"`` ends the game with every seat
+        rewarded ``illegal_reward`` and ``infos[agent]["illegal"] = True``, as PettingZoo's
+        classic games do (for PettingZoo's ``parallel_seed_test``, which samples actions
+        without their masks)."""
         if not self.agents:
             raise RuntimeError("the game is over: call reset() first")
         unknown = set(actions) - set(self.agents)
@@ -121,6 +129,10 @@ class YokaiParallelEnv(ParallelEnv):
         if acting not in actions:
             raise ValueError(f"{acting} acts now and must be given an action")
         joint = [int(actions.get(agent, 0)) for agent in self.possible_agents]
+        if self._illegal == "end" and any(
+            not self._game.legal_mask(s)[a] for s, a in enumerate(joint)
+        ):
+            return self._end_on_illegal()
         reward, shaping, done = self._game.step_joint(joint)
         team = float(reward + (shaping if self._shaping else 0))
         agents = self.agents
@@ -137,6 +149,20 @@ class YokaiParallelEnv(ParallelEnv):
         if self.render_mode == "human":
             print(self.render())
         return observations, rewards, terminations, truncations, infos
+
+    def _end_on_illegal(self):
+        agents, self.agents = self.agents, []
+        observations = {agent: self._observe(s) for s, agent in enumerate(agents)}
+        infos = self._infos()
+        for agent in agents:
+            infos[agent]["illegal"] = True
+        return (
+            observations,
+            {agent: self._illegal_reward for agent in agents},
+            {agent: True for agent in agents},
+            {agent: False for agent in agents},
+            infos,
+        )
 
     def render(self) -> Optional[str]:
         """The true board as text (``ansi``), or printed (``human``)."""
