@@ -134,6 +134,7 @@ pub fn vec_error(e: VecError) -> PyErr {
         | VecError::EnvIndex { .. }
         | VecError::FinishedOnRestore { .. } => PyValueError::new_err(e.to_string()),
         VecError::NoEnvs | VecError::Encoding(_) | VecError::Threads { .. } => config_error(&e),
+        VecError::Memory { .. } => pyo3::exceptions::PyMemoryError::new_err(e.to_string()),
     }
 }
 

@@ -42,6 +42,14 @@ def test_bad_dtype(dtype):
         yokai.VecEnv(num_envs=2, dtype=dtype)
 
 
+def test_a_num_envs_too_large_for_memory_is_a_memory_error_not_a_crash():
+    # 2^40 games need more memory than a process can address: refused before any games
+    # are dealt, naming the size, and the interpreter lives on.
+    with pytest.raises(MemoryError, match=r"num_envs = 1099511627776 needs .* TB"):
+        yokai.VecEnv("9c-2p-perfect", num_envs=2**40)
+    assert yokai.VecEnv("9c-2p-perfect", num_envs=2).num_envs == 2
+
+
 def test_illegal_action_in_a_batch_names_env_and_reason_and_changes_nothing():
     venv = yokai.VecEnv(num_envs=3, seed=0)
     out = venv.reset()

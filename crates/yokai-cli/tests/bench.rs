@@ -113,3 +113,11 @@ fn bad_options_are_errors_that_say_what() {
     assert!(yokai_err(&["bench", "--envs", "8,0", "--seconds", "0.01"])
         .contains("--envs: every number of games must be at least 1"));
 }
+
+/// `--envs` beyond what the machine can address is an error that names the size.
+#[test]
+fn an_impossible_number_of_envs_is_an_error_not_an_abort() {
+    let err = yokai_err(&["bench", "--envs", "1099511627776", "--repeats", "1"]);
+    assert!(err.contains("num_envs = 1099511627776 needs"), "{err}");
+    assert!(err.contains("use fewer environments"), "{err}");
+}

@@ -16,6 +16,36 @@ struct Slot {
     episode: u64,
 }
 
+/// A buffer of `len` copies of `value`, or an error naming the buffer and its size where
+/// the memory cannot be had: a huge `num_envs` must be an error the caller can report
+/// (Python's `MemoryError`), not an abort of the process.
+fn buffer<T: Clone>(
+    len: usize,
+    value: T,
+    what: &'static str,
+    num_envs: usize,
+) -> Result<Vec<T>, VecError> {
+    let mut v = reserve(len, what, num_envs)?;
+    v.resize(len, value);
+    Ok(v)
+}
+
+/// An empty vector with room for `len` elements, or the error of [`buffer`].
+fn reserve<T>(len: usize, what: &'static str, num_envs: usize) -> Result<Vec<T>, VecError> {
+    let bytes = (len as u128) * (std::mem::size_of::<T>() as u128);
+    let refuse = || VecError::Memory {
+        what,
+        bytes,
+        num_envs,
+    };
+    if len == usize::MAX || bytes > isize::MAX as u128 {
+        return Err(refuse());
+    }
+    let mut v = Vec::new();
+    v.try_reserve_exact(len).map_err(|_| refuse())?;
+    Ok(v)
+}
+
 /// N games of one configuration, stepped together.
 pub struct VecEnv<T: Scalar> {
     config: Config,
@@ -65,12 +95,11 @@ impl<T: Scalar + Default> VecEnv<T> {
         let n = options.num_envs;
         let p = config.players();
         let sizes = Self::sizes(&config, options.encoding);
-        let slots = (0..n)
-            .map(|i| Slot {
-                game: Game::new(config, episode_seed(options.seed, i, 0)),
-                episode: 0,
-            })
-            .collect();
+        let mut slots = reserve(n, "games", n)?;
+        slots.extend((0..n).map(|i| Slot {
+            game: Game::new(config, episode_seed(options.seed, i, 0)),
+            episode: 0,
+        }));
         let mut env = VecEnv {
             config,
             options: VecEnvOptions {
@@ -80,15 +109,30 @@ impl<T: Scalar + Default> VecEnv<T> {
             slots,
             // Zero-size encodings keep one unused element per env so that the chunked zips
             // of the step loop stay aligned with the games.
-            observations: vec![T::ZERO; n * p * sizes.obs.max(1)],
-            adjacency: vec![T::ZERO; n * sizes.adjacency.max(1)],
-            masks: vec![0; n * p * sizes.actions],
-            rewards: vec![0.0; n],
-            shaping: vec![0.0; n],
-            dones: vec![0; n],
-            acting: vec![0; n],
-            outcomes: vec![None; n],
-            scratch: vec![0; n],
+            observations: buffer(
+                n.saturating_mul(p).saturating_mul(sizes.obs.max(1)),
+                T::ZERO,
+                "observations",
+                n,
+            )?,
+            adjacency: buffer(
+                n.saturating_mul(sizes.adjacency.max(1)),
+                T::ZERO,
+                "adjacency",
+                n,
+            )?,
+            masks: buffer(
+                n.saturating_mul(p).saturating_mul(sizes.actions),
+                0,
+                "legal masks",
+                n,
+            )?,
+            rewards: buffer(n, 0.0, "rewards", n)?,
+            shaping: buffer(n, 0.0, "shaping", n)?,
+            dones: buffer(n, 0, "done flags", n)?,
+            acting: buffer(n, 0, "acting seats", n)?,
+            outcomes: buffer(n, None, "outcomes", n)?,
+            scratch: buffer(n, 0, "scratch", n)?,
             image: ImageEncoder::new(
                 &config,
                 match options.encoding {

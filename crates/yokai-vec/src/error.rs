@@ -25,6 +25,24 @@ pub enum VecError {
     NoEnvs,
     #[error("unknown observation encoding `{0}` (expected image, image-public, image-private, the same with -chw for channels-first, graph, graph-public, graph-private or none)")]
     Encoding(String),
+    /// A buffer that the machine's memory cannot hold (a `num_envs` far too large).
+    #[error("num_envs = {num_envs} needs {} for the {what} buffer alone, which could not be allocated: use fewer environments", human_bytes(*bytes))]
+    Memory {
+        what: &'static str,
+        bytes: u128,
+        num_envs: usize,
+    },
     #[error("could not start {threads} worker threads: {message}")]
     Threads { threads: usize, message: String },
+}
+
+/// `bytes` for people: `97.3 GB`.
+fn human_bytes(bytes: u128) -> String {
+    let b = bytes as f64;
+    match b {
+        b if b >= 1e12 => format!("{:.1} TB", b / 1e12),
+        b if b >= 1e9 => format!("{:.1} GB", b / 1e9),
+        b if b >= 1e6 => format!("{:.1} MB", b / 1e6),
+        _ => format!("{bytes} bytes"),
+    }
 }

@@ -340,3 +340,25 @@ fn restore_rebuilds_a_game_mid_episode_exactly() {
     let e = copy.restore(1, 0, &[5000]).unwrap_err();
     assert!(e.to_string().starts_with("env 1:"), "{e}");
 }
+
+/// A `num_envs` no machine can hold is an error naming the buffer and its size, not an
+/// abort: 2^40 games need more than the 128 TB a process can address.
+#[test]
+fn a_num_envs_too_large_for_memory_is_an_error_not_an_abort() {
+    let config = Config::resolve("9c-2p-perfect").unwrap();
+    for n in [1usize << 40, usize::MAX / 2] {
+        let err = VecEnv::<f32>::new(config, VecEnvOptions::new(n, 0))
+            .err()
+            .expect("refused");
+        assert!(
+            matches!(err, VecError::Memory { num_envs, .. } if num_envs == n),
+            "{err}"
+        );
+        let text = err.to_string();
+        assert!(
+            text.starts_with(&format!("num_envs = {n} needs ")),
+            "{text}"
+        );
+        assert!(text.contains("TB") && text.contains("buffer"), "{text}");
+    }
+}
