@@ -89,3 +89,11 @@ def test_ppo_torch_resumes_from_its_checkpoint_on_the_full_schedule(tmp_path):
     assert saved["update"] == 4
     with pytest.raises(SystemExit, match="--checkpoint"):
         example.main(["--resume", "true", "--device", "cpu"])
+
+
+def test_ppo_torch_asks_for_wandb_by_name_when_it_is_missing(monkeypatch):
+    example = load_example()
+    monkeypatch.setitem(sys.modules, "wandb", None)  # as if not installed
+    with pytest.raises(SystemExit, match="pip install wandb"):
+        example.main(["--num-envs", "2", "--rollout-steps", "2", "--max-updates", "1", "--device", "cpu",
+                      "--hidden", "8", "--filters", "4", "--wandb-project", "yokai-test"])
