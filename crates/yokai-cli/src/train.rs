@@ -29,6 +29,7 @@ const PRESETS: &[(&str, &str)] = presets!(
     "obl-9c-2p",
     "cpu",
     "cpu-fast",
+    "cpu-op",
     "ippo-9c-2p",
     "he-9c-2p",
     "op-9c-2p",
@@ -405,6 +406,16 @@ mod tests {
         fast.network.hidden = cpu.network.hidden;
         fast.ppo.epochs = cpu.ppo.epochs;
         assert_eq!(cpu, fast);
+    }
+
+    /// `cpu-op` says it is `cpu-fast` with Other-Play's symmetries; nothing else may drift.
+    #[test]
+    fn cpu_op_is_cpu_fast_with_the_symmetries() {
+        let (fast, mut op) = (preset("cpu-fast"), preset("cpu-op"));
+        assert_eq!(op.algorithm.name, "op");
+        assert_eq!(op.algorithm.symmetries, yokai_train::SymmetrySet::Both);
+        op.algorithm = fast.algorithm.clone();
+        assert_eq!(fast, op);
     }
 
     /// `obl-cpu` says it is OBL with `cpu-fast`'s levers, 2M steps per level and four
