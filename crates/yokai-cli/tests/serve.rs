@@ -6,7 +6,7 @@
 #[path = "common/server.rs"]
 mod server;
 
-use serde_json::json;
+use serde_json::{json, Value};
 use server::{first_not_end, id, play_out, tempdir, Server};
 use std::process::Command;
 use yokai_engine::Replay;
@@ -321,5 +321,57 @@ fn a_pretrained_agent_is_a_seat_by_name() {
     assert!(
         err.contains("no pretrained agent `pretrained:nope/0`"),
         "{err}"
+    );
+}
+
+/// `yokai serve --report` computes the study's figures from the records: its row's R,
+/// EE and LEN are the means of the games' outcomes as the page showed them.
+#[test]
+fn the_report_computes_the_metrics_of_the_recorded_games() {
+    let tmp = tempdir();
+    let server = Server::start(tmp.path(), "human,greedy", &[]);
+    let session = server.session();
+    let outcomes: Vec<Value> = (0..4)
+        .map(|k| {
+            let game = server.new_game(&session, json!({ "seed": 20 + k }));
+            play_out(&server, game, k as usize)["board"]["outcome"].clone()
+        })
+        .collect();
+    let mean = |key: &str| {
+        outcomes
+            .iter()
+            .map(|o| {
+                o[key]
+                    .as_f64()
+                    .unwrap_or(o[key].as_bool().map_or(0.0, f64::from))
+            })
+            .sum::<f64>()
+            / outcomes.len() as f64
+    };
+    let out = Command::new(env!("CARGO_BIN_EXE_yokai"))
+        .args(["serve", "--report", "--records"])
+        .arg(tmp.path())
+        .output()
+        .unwrap();
+    let table = String::from_utf8(out.stdout).unwrap();
+    assert!(out.status.success(), "{table}");
+    let row = table
+        .lines()
+        .find(|l| l.starts_with(&format!("| {session} | human + greedy | 4 |")))
+        .unwrap_or_else(|| panic!("no row for the session:\n{table}"));
+    let cells: Vec<&str> = row.split('|').map(str::trim).collect();
+    let r: f64 = cells[4].split('±').next().unwrap().trim().parse().unwrap();
+    assert!(
+        (r - mean("reward")).abs() < 0.006,
+        "{row}: R {}",
+        mean("reward")
+    );
+    let ee: f64 = cells[6].parse().unwrap();
+    assert!((ee - 100.0 * mean("early_end")).abs() < 0.51, "{row}");
+    let len: f64 = cells[8].parse().unwrap();
+    assert!(
+        (len - mean("length")).abs() < 0.051,
+        "{row}: LEN {}",
+        mean("length")
     );
 }
