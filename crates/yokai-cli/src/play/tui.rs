@@ -260,3 +260,132 @@ fn draw(f: &mut Frame, session: &Session, color: bool, message: &str) -> (Rect, 
     f.render_widget(Paragraph::new(bottom), rows[2]);
     list
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::play::session::Player;
+    use ratatui::backend::TestBackend;
+    use yokai_agents::RandomPolicy;
+    use yokai_engine::{Card, Config};
+
+    /// The screen `draw` paints for `session`, as lines of text.
+    fn screen(session: &Session) -> Vec<String> {
+        let mut terminal = ratatui::Terminal::new(TestBackend::new(110, 40)).unwrap();
+        terminal
+            .draw(|f| {
+                draw(f, session, false, "");
+            })
+            .unwrap();
+        let buffer = terminal.backend().buffer().clone();
+        (0..buffer.area.height)
+            .map(|y| {
+                (0..buffer.area.width)
+                    .map(|x| buffer[(x, y)].symbol().to_string())
+                    .collect::<String>()
+            })
+            .collect()
+    }
+
+    /// The acting human's first legal action that does not END the game.
+    fn play_on(s: &mut Session) {
+        let legal = s.legal();
+        let action = legal
+            .iter()
+            .copied()
+            .find(|a| *a != yokai_engine::Action::End)
+            .unwrap_or(legal[0]);
+        s.choose(action).unwrap();
+    }
+
+    fn session(players: Vec<(String, Player)>, seed: u64) -> Session {
+        let config = Config::from_name(&format!("9c-{}p-perfect", players.len())).unwrap();
+        Session::new(config, seed, players).unwrap()
+    }
+
+    /// Every card's cell shows its colour letter where the viewer knows it and `?` where
+    /// not; the status line, the legal actions and, at the end, the true board and the
+    /// outcome are on screen.
+    #[test]
+    fn the_screen_shows_what_the_viewer_knows_and_the_legal_actions() {
+        let mut s = session(
+            vec![
+                ("human".into(), Player::Human),
+                ("random".into(), Player::Bot(Box::new(RandomPolicy::new(2)))),
+            ],
+            7,
+        );
+        // Observe two cards: seat 0 then knows their colours.
+        play_on(&mut s);
+        play_on(&mut s);
+        let text = screen(&s).join("\n");
+        let game = s.game();
+        let known = game.known_cards(Seat(0));
+        let cards = game.config().cards();
+        assert!(known.len() >= 2, "two cards observed");
+        for id in 0..cards {
+            let card = Card(id as u8);
+            let shown = if known.contains(card) {
+                format!("{}{id}", game.colour_of(card).letter())
+            } else {
+                format!("?{id}")
+            };
+            assert!(
+                text.contains(&shown),
+                "card {id} should show as {shown}:\n{text}"
+            );
+        }
+        assert!(text.contains("seat 0's view"), "{text}");
+        assert!(text.contains("seat 0 (human) to play"), "{text}");
+        for action in s.legal().iter().take(5) {
+            assert!(
+                text.contains(&action.to_string()),
+                "{action} not listed:\n{text}"
+            );
+        }
+        // Played to the end by the bots' moves and the first legal move of the human.
+        while !s.is_over() {
+            play_on(&mut s);
+        }
+        let text = screen(&s).join("\n");
+        let o = s.game().outcome().unwrap();
+        assert!(text.contains("the true board"), "{text}");
+        assert!(text.contains(&format!("R = {}", o.reward)), "{text}");
+        assert!(
+            !text.contains("?0 "),
+            "every colour shows at the end:\n{text}"
+        );
+    }
+
+    /// Between two humans' turns (hot seat) the board is hidden and no action is listed.
+    #[test]
+    fn the_curtain_hides_the_board_between_humans() {
+        let mut s = session(
+            vec![
+                ("human".into(), Player::Human),
+                ("human".into(), Player::Human),
+            ],
+            3,
+        );
+        while !s.curtain() {
+            play_on(&mut s);
+        }
+        let lines = screen(&s);
+        let text = lines.join("\n");
+        assert!(
+            text.contains("seat 1 must play next. Press Enter"),
+            "{text}"
+        );
+        // Above the public log of past actions: no card and no legal action.
+        let panes: String = lines
+            .iter()
+            .take_while(|l| !l.contains("last actions"))
+            .cloned()
+            .collect();
+        assert!(!panes.contains("?0"), "no card while hidden:\n{text}");
+        assert!(
+            !panes.contains("observe card"),
+            "no action while hidden:\n{text}"
+        );
+    }
+}
