@@ -174,6 +174,32 @@ fn input_that_ends_too_early_and_bad_seats_are_clear_errors() {
     assert!(err.contains("3 seats given"), "{err}");
 }
 
+/// A pretrained agent built into the binary takes a seat of `yokai play` by name.
+#[test]
+fn a_pretrained_agent_plays_beside_a_human_in_line_mode() {
+    // Listed actions 1 and 0 in turn (0 is END at the start of a turn, and some substeps
+    // list one action only): the human's turn completes, then the agent plays.
+    let input = "1\n0\n".repeat(200);
+    let out = yokai_with_input(
+        &[
+            "play",
+            "--line",
+            "--seats",
+            "human,pretrained:quick/0",
+            "--seed",
+            "5",
+        ],
+        &input,
+    );
+    let all = text(&out);
+    assert!(out.status.success(), "{all}");
+    assert!(
+        all.contains("seat 1 (pretrained:quick/0 (END > 0.5)): observe card"),
+        "the agent played: {all}"
+    );
+    assert!(all.contains("game over after"), "{all}");
+}
+
 #[test]
 fn a_broken_replay_names_the_file_and_line() {
     let tmp = tempdir("broken");
