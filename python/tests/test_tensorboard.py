@@ -2,48 +2,19 @@
 figures of metrics.jsonl at each update's env steps, across a stop and a resume."""
 
 import json
-import pathlib
-import subprocess
 
 import pytest
 
-ROOT = pathlib.Path(__file__).resolve().parents[2]
-BINARY = ROOT / "target" / "release" / "yokai"
+from training import TINY, train_tiny
 
-TINY = """
-game = "9c-2p-perfect"
-[network]
-preset = "compact"
-hidden = 16
-[ppo]
-num_envs = 8
-rollout_steps = 8
-minibatches = 2
-epochs = 1
-total_steps = 256
-[run]
-log_every = 1
-"""
-
-
-def train(config, out, *extra):
-    subprocess.run(
-        [str(BINARY), "train", str(config), "--seeds", "0", "--out", str(out), "--eval-games", "0", *extra],
-        check=True,
-        capture_output=True,
-    )
+# 256 steps of 8 games x 8 steps: four updates, each logged.
+CONFIG = TINY.replace("total_steps = 128", "total_steps = 256") + "[run]\nlog_every = 1\n"
 
 
 def test_event_files_hold_the_metrics_across_a_resume(tmp_path):
-    if not BINARY.exists():
-        pytest.skip("needs the yokai binary: scripts/test.sh builds it before pytest")
     accumulator = pytest.importorskip("tensorboard.backend.event_processing.event_accumulator")
-    config = tmp_path / "tiny.toml"
-    config.write_text(TINY)
-    out = tmp_path / "runs"
-    train(config, out, "--max-updates", "2")
-    train(config, out, "--resume")
-    run = out / "seed-0"
+    train_tiny(tmp_path, CONFIG, "--max-updates", "2")
+    run = train_tiny(tmp_path, CONFIG, "--resume")
     files = sorted(run.glob("events.out.tfevents.*"))
     assert len(files) == 2, files  # one per start
 

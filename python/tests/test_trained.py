@@ -1,6 +1,5 @@
 """Trained policies (written by ``yokai train``) as ``yokai.Agent``s."""
 
-import pathlib
 import subprocess
 import sys
 
@@ -8,43 +7,17 @@ import numpy as np
 import pytest
 
 import yokai
+from training import BINARY, TINY, train_tiny
 
 if sys.version_info >= (3, 11):
     import tomllib
 else:  # pragma: no cover
     import tomli as tomllib
 
-ROOT = pathlib.Path(__file__).resolve().parents[2]
-BINARY = ROOT / "target" / "release" / "yokai"
-
-TINY = """
-game = "9c-2p-perfect"
-[network]
-preset = "compact"
-hidden = 16
-[ppo]
-num_envs = 8
-rollout_steps = 8
-minibatches = 2
-epochs = 1
-total_steps = 128
-"""
-
 
 @pytest.fixture(scope="module")
 def run_dir(tmp_path_factory):
-    if not BINARY.exists():
-        pytest.skip("needs the yokai binary: scripts/test.sh builds it before pytest")
-    tmp = tmp_path_factory.mktemp("train")
-    config = tmp / "tiny.toml"
-    config.write_text(TINY)
-    out = tmp / "runs"
-    subprocess.run(
-        [str(BINARY), "train", str(config), "--seeds", "0", "--out", str(out), "--eval-games", "0"],
-        check=True,
-        capture_output=True,
-    )
-    return out / "seed-0"
+    return train_tiny(tmp_path_factory.mktemp("train"))
 
 
 def games_of(policy, partner="random", seeds=range(5)):
@@ -95,17 +68,7 @@ def test_another_game_and_broken_files_are_clear_errors(run_dir, tmp_path):
 def test_ablation_networks_load_and_play(network, tmp_path):
     """The paper's ablation networks (graph encoders, Transformer-XL memory) load from
     Python like the GRU networks and play whole games."""
-    if not BINARY.exists():
-        pytest.skip("needs the yokai binary: scripts/test.sh builds it before pytest")
-    config = tmp_path / "ablation.toml"
-    config.write_text(TINY.replace('preset = "compact"', 'preset = "compact"\n' + network))
-    out = tmp_path / "runs"
-    subprocess.run(
-        [str(BINARY), "train", str(config), "--seeds", "0", "--out", str(out), "--eval-games", "0"],
-        check=True,
-        capture_output=True,
-    )
-    run = out / "seed-0"
+    run = train_tiny(tmp_path, TINY.replace('preset = "compact"', 'preset = "compact"\n' + network))
     replays = games_of(str(run), partner="greedy", seeds=range(3))
     assert all(yokai.Env.from_replay(r).done for r in replays)
     assert games_of(str(run / "policy.ykp"), partner="greedy", seeds=range(3)) == replays
