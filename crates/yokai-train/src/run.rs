@@ -128,9 +128,9 @@ fn run<E: Encoder, M: Recurrent>(
         on_update(&stats, total);
         let u = stats.update;
         if u % log_every == 0 || u == total {
-            let line = serde_json::to_string(&stats).expect("stats serialise");
-            writeln!(log, "{line}").map_err(|e| io(&metrics_path, e))?;
+            // One serialisation serves both logs (its keys in alphabetical order).
             let value = serde_json::to_value(&stats).expect("stats serialise");
+            writeln!(log, "{value}").map_err(|e| io(&metrics_path, e))?;
             let scalars = scalars_of(&value, "train", &["update", "env_steps"]);
             events
                 .scalars(stats.env_steps, &scalars)
