@@ -38,7 +38,8 @@ fn reserve<T>(len: usize, what: &'static str, num_envs: usize) -> Result<Vec<T>,
         bytes,
         num_envs,
     };
-    if len == usize::MAX || bytes > isize::MAX as u128 {
+    // A length that saturated (num_envs × sizes overflowed) lands here too.
+    if bytes > isize::MAX as u128 {
         return Err(refuse());
     }
     let mut v = Vec::new();
