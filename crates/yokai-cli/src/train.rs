@@ -128,9 +128,7 @@ fn load_config(
             names.join(", ")
         ));
     }
-    let text = std::fs::read_to_string(path)
-        .with_context(|| format!("cannot read training config {}", path.display()))?;
-    let config = TrainConfig::from_toml_with(&text, &path.display().to_string(), overrides)?;
+    let config = TrainConfig::from_file_with(path, overrides)?;
     let stem = path
         .file_stem()
         .map_or("run".into(), |s| s.to_string_lossy().to_string());

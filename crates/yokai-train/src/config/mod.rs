@@ -98,11 +98,19 @@ impl TrainConfig {
     }
 
     pub fn from_file(path: &Path) -> Result<TrainConfig, TrainConfigError> {
+        TrainConfig::from_file_with(path, &[])
+    }
+
+    /// The config file at `path` with `overrides` applied ([`TrainConfig::from_toml_with`]).
+    pub fn from_file_with(
+        path: &Path,
+        overrides: &[Override],
+    ) -> Result<TrainConfig, TrainConfigError> {
         let text = std::fs::read_to_string(path).map_err(|e| TrainConfigError::Io {
             path: path.display().to_string(),
             message: e.to_string(),
         })?;
-        TrainConfig::from_toml_str(&text, &path.display().to_string())
+        TrainConfig::from_toml_with(&text, &path.display().to_string(), overrides)
     }
 
     pub fn to_toml(&self) -> String {
