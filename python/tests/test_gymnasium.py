@@ -33,6 +33,9 @@ def test_an_illegal_action_raises_and_changes_nothing_or_ends_the_episode():
     assert (reward, terminated, truncated, info["illegal"]) == (-3.0, True, False, True)
     with pytest.raises(RuntimeError, match="reset"):
         ending.step(0)
+    # An index outside the action space is illegal too (the engine refuses it).
+    ending.reset(seed=4)
+    assert ending.step(10**6)[2:4] == (True, False)
 
 
 def test_bad_arguments_are_refused():

@@ -31,7 +31,7 @@ except ImportError as e:  # pragma: no cover - older Gymnasium
         'pip install "yokai-learning-environment[gymnasium]"'
     ) from e
 
-from . import Env, VecEnv, episode_seed
+from . import Env, IllegalActionError, VecEnv
 
 __all__ = ["YokaiEnv", "YokaiVectorEnv"]
 
@@ -74,12 +74,12 @@ class YokaiEnv(gymnasium.Env):
         self._ended = False
         if render_mode not in (None, "ansi"):
             raise ValueError(f"render_mode={render_mode!r}: YokaiEnv renders as text, render_mode='ansi'")
-        self._config, self._obs, self._shaping = config, obs, float(shaping)
+        self._obs, self._shaping = obs, float(shaping)
         self.render_mode = render_mode
         self._game = Env(config, 0)
         self.observation_space = _observation_space(self._game.observation_shape(obs))
         self.action_space = spaces.Discrete(self._game.num_actions)
-        self._next_deal: Optional[int] = None
+        self._dealt = False
 
     def _observe(self) -> tuple[np.ndarray, dict[str, Any]]:
         seat = self._game.acting_seat
@@ -89,15 +89,10 @@ class YokaiEnv(gymnasium.Env):
 
     def reset(self, *, seed: Optional[int] = None, options: Optional[dict] = None):
         super().reset(seed=seed)
-        if seed is not None:
-            deal = int(seed)
-        elif self._next_deal is not None:
-            deal = self._next_deal
-        else:  # first reset without a seed: a deal drawn from Gymnasium's generator
-            deal = int(self.np_random.integers(0, 2**63 - 1))
-        self._next_deal = deal + 1
-        self._game.reset(deal)
-        self._ended = False
+        if seed is None and not self._dealt:  # a first deal drawn from Gymnasium's generator
+            seed = int(self.np_random.integers(0, 2**63 - 1))
+        self._game.reset(None if seed is None else int(seed))  # None: the previous deal + 1
+        self._dealt, self._ended = True, False
         return self._observe()
 
     def _terminal(self, **extra) -> tuple[np.ndarray, dict[str, Any]]:
@@ -108,11 +103,13 @@ class YokaiEnv(gymnasium.Env):
     def step(self, action):
         if self._ended or self._game.done:
             raise RuntimeError("the episode has ended: call reset()")
-        action = int(action)
-        if self._illegal == "end" and not self._game.legal_mask(self._game.acting_seat)[action]:
+        try:
+            reward, shaping, done = self._game.step(int(action))
+        except IllegalActionError:  # the engine changed nothing
+            if self._illegal == "raise":
+                raise
             obs, info = self._terminal(illegal=True)
             return obs, self._illegal_reward, True, False, info
-        reward, shaping, done = self._game.step(action)
         if done:
             obs, info = self._terminal(outcome=self._game.outcome)
         else:
@@ -185,13 +182,3 @@ class YokaiVectorEnv(gymnasium.vector.VectorEnv):
 
     def close_extras(self, **kwargs):
         self._env = None
-
-    @property
-    def seed_stream(self) -> int:
-        """The VecEnv's seed: game i's k-th deal is ``yokai.episode_seed(seed, i, k)``."""
-        return self._env.seed
-
-    @staticmethod
-    def deal_of(seed: int, env: int, episode: int = 0) -> int:
-        """The deal (a ``YokaiEnv`` / ``yokai.Env`` seed) of game ``env``'s ``episode``-th game."""
-        return episode_seed(seed, env, episode)

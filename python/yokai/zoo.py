@@ -23,7 +23,7 @@ from gymnasium import spaces
 from pettingzoo import ParallelEnv
 from pettingzoo.utils.conversions import parallel_to_aec
 
-from ._core import Env
+from ._core import Env, IllegalActionError
 
 __all__ = ["YokaiParallelEnv", "parallel_env", "env"]
 
@@ -129,11 +129,12 @@ class YokaiParallelEnv(ParallelEnv):
         if acting not in actions:
             raise ValueError(f"{acting} acts now and must be given an action")
         joint = [int(actions.get(agent, 0)) for agent in self.possible_agents]
-        if self._illegal == "end" and any(
-            not self._game.legal_mask(s)[a] for s, a in enumerate(joint)
-        ):
+        try:
+            reward, shaping, done = self._game.step_joint(joint)
+        except IllegalActionError:  # the engine changed nothing
+            if self._illegal == "raise":
+                raise
             return self._end_on_illegal()
-        reward, shaping, done = self._game.step_joint(joint)
         team = float(reward + (shaping if self._shaping else 0))
         agents = self.agents
         observations = {agent: self._observe(s) for s, agent in enumerate(agents)}
