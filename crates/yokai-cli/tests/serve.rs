@@ -7,7 +7,7 @@
 mod server;
 
 use serde_json::{json, Value};
-use server::{first_not_end, id, play_out, tempdir, Server};
+use server::{first_not_end, id, play_out, report, tempdir, Server};
 use std::process::Command;
 use yokai_engine::Replay;
 
@@ -348,13 +348,7 @@ fn the_report_computes_the_metrics_of_the_recorded_games() {
             .sum::<f64>()
             / outcomes.len() as f64
     };
-    let out = Command::new(env!("CARGO_BIN_EXE_yokai"))
-        .args(["serve", "--report", "--records"])
-        .arg(tmp.path())
-        .output()
-        .unwrap();
-    let table = String::from_utf8(out.stdout).unwrap();
-    assert!(out.status.success(), "{table}");
+    let table = report(tmp.path());
     let row = table
         .lines()
         .find(|l| l.starts_with(&format!("| {session} | human + greedy | 4 |")))

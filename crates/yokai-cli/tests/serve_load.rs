@@ -7,9 +7,8 @@
 mod server;
 
 use serde_json::{json, Value};
-use server::{answer, id, play_out, play_out_resyncing, tempdir, Server};
+use server::{answer, id, play_out, play_out_resyncing, report, tempdir, Server};
 use std::collections::HashMap;
-use std::process::Command;
 use std::sync::atomic::AtomicUsize;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Mutex;
@@ -103,13 +102,7 @@ fn five_hundred_games_at_once_all_finish_with_valid_records_in_bounded_memory() 
     let (_, summary) = server.get(&format!("/api/summary?session={}", sessions[0]));
     assert_eq!(summary["finished"], PER_SESSION);
     // The study's table: a row per session and one for all.
-    let out = Command::new(env!("CARGO_BIN_EXE_yokai"))
-        .args(["serve", "--report", "--records"])
-        .arg(tmp.path())
-        .output()
-        .unwrap();
-    let table = String::from_utf8(out.stdout).unwrap();
-    assert!(out.status.success(), "{table}");
+    let table = report(tmp.path());
     let rows: Vec<&str> = table
         .lines()
         .filter(|l| l.contains("| human + random | 5 |"))

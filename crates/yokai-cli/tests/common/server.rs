@@ -229,6 +229,19 @@ pub fn first_not_end(game: &Value) -> u64 {
     pick["index"].as_u64().unwrap()
 }
 
+/// The table `yokai serve --report` prints for the records under `records` (it must
+/// succeed).
+pub fn report(records: &Path) -> String {
+    let out = Command::new(env!("CARGO_BIN_EXE_yokai"))
+        .args(["serve", "--report", "--records"])
+        .arg(records)
+        .output()
+        .unwrap();
+    let table = String::from_utf8(out.stdout).unwrap();
+    assert!(out.status.success(), "{table}");
+    table
+}
+
 pub fn tempdir() -> tempfile::TempDir {
     tempfile::Builder::new()
         .prefix("yokai-serve-")
