@@ -9,12 +9,22 @@ mod agent;
 mod arrays;
 mod env;
 mod errors;
+mod packed;
 #[cfg(feature = "trained")]
 mod probe;
 mod vec_env;
 
 use pyo3::prelude::*;
 use yokai_engine::Config;
+
+/// The seed derived from ``seed`` for ``index``: ``derive_seed(seed, i)`` is the stream of
+/// game i of ``VecEnv(seed=seed)``, whose episode e is dealt from
+/// ``derive_seed(stream, e)`` (``yokai.jax`` keeps such streams).
+#[pyfunction]
+#[pyo3(name = "derive_seed")]
+fn derive_seed_py(seed: u64, index: u64) -> u64 {
+    yokai_engine::derive_seed(seed, index)
+}
 
 /// The seed of episode ``episode`` of game ``env`` in a ``VecEnv`` seeded with ``seed``:
 /// ``Env(config, seed=episode_seed(seed, i, e))`` deals the same game.
@@ -43,7 +53,9 @@ fn yokai_core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<vec_env::PyVecEnv>()?;
     m.add_class::<env::PyEnv>()?;
     m.add_class::<agent::PyAgent>()?;
+    m.add_class::<packed::PyPackedGames>()?;
     m.add_function(wrap_pyfunction!(episode_seed, m)?)?;
+    m.add_function(wrap_pyfunction!(derive_seed_py, m)?)?;
     m.add_function(wrap_pyfunction!(configs, m)?)?;
     m.add_function(wrap_pyfunction!(parse_seeds, m)?)?;
     #[cfg(feature = "trained")]

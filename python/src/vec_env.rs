@@ -132,8 +132,13 @@ pub fn vec_error(e: VecError) -> PyErr {
         VecError::Action { .. } => illegal(&e),
         VecError::ActionCount { .. }
         | VecError::EnvIndex { .. }
-        | VecError::FinishedOnRestore { .. } => PyValueError::new_err(e.to_string()),
-        VecError::NoEnvs | VecError::Encoding(_) | VecError::Threads { .. } => config_error(&e),
+        | VecError::FinishedOnRestore { .. }
+        | VecError::BufferLength { .. } => PyValueError::new_err(e.to_string()),
+        VecError::Packed { .. } => crate::errors::YokaiError::new_err(e.to_string()),
+        VecError::NoEnvs
+        | VecError::Encoding(_)
+        | VecError::Threads { .. }
+        | VecError::PackedEncoding => config_error(&e),
         VecError::Memory { .. } => pyo3::exceptions::PyMemoryError::new_err(e.to_string()),
     }
 }

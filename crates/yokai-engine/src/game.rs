@@ -14,7 +14,7 @@ use crate::types::{
 };
 
 /// Marks "no card" in hint-slot tables.
-const NO_CARD: u8 = u8::MAX;
+pub(crate) const NO_CARD: u8 = u8::MAX;
 
 /// Which of the four substeps of a turn the acting seat is in.
 #[derive(Clone, Copy, PartialEq, Eq, Debug, Hash)]

@@ -82,6 +82,7 @@ pub mod game;
 mod legal;
 pub mod metrics;
 pub mod observation;
+pub mod packed;
 pub mod playthrough;
 pub mod reference;
 pub mod render;
@@ -101,6 +102,7 @@ pub use metrics::{Metrics, MetricsAccumulator};
 pub use observation::{
     BufferError, ImageChanges, ImageChannels, ImageEncoder, ImageLayout, Part, Scalar,
 };
+pub use packed::{PackError, PACKED_FORMAT, PACKED_LEN};
 pub use playthrough::{golden_set, playthrough, Chooser, GoldenGame, PLAYTHROUGH_FORMAT};
 pub use render::{render_seat, render_truth};
 pub use replay::{Replay, ReplayFileError, ReplayHeader, ReplayStep, REPLAY_FORMAT};

@@ -198,6 +198,16 @@ impl CardSet {
     pub fn is_empty(self) -> bool {
         self.0 == 0
     }
+    /// The mask itself: bit k is card k (for packing a game into bytes).
+    #[inline(always)]
+    pub(crate) fn bits(self) -> u32 {
+        self.0
+    }
+    /// The set whose bit k is card k; the caller keeps it within the game's cards.
+    #[inline(always)]
+    pub(crate) fn from_bits(bits: u32) -> CardSet {
+        CardSet(bits)
+    }
     /// The cards in increasing id order.
     #[inline]
     pub fn iter(self) -> impl Iterator<Item = Card> {

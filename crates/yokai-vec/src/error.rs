@@ -1,6 +1,6 @@
 //! Errors of the batched environment.
 
-use yokai_engine::ActionError;
+use yokai_engine::{ActionError, PackError};
 
 /// Errors of the batched environment. A failed `step` changes nothing.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -32,6 +32,20 @@ pub enum VecError {
         bytes: u128,
         num_envs: usize,
     },
+    #[error("game {env} of the batch is not a packed game of this config: {source}")]
+    Packed {
+        env: usize,
+        #[source]
+        source: PackError,
+    },
+    #[error("the {what} buffer holds {got} values, but the batch needs {expected}")]
+    BufferLength {
+        what: &'static str,
+        expected: usize,
+        got: usize,
+    },
+    #[error("packed games offer the image encodings and none; a graph's adjacency is a second buffer they do not carry")]
+    PackedEncoding,
     #[error("could not start {threads} worker threads: {message}")]
     Threads { threads: usize, message: String },
 }

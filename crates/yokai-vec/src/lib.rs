@@ -41,8 +41,10 @@ mod encoding;
 mod env;
 mod error;
 mod options;
+mod packed;
 
 pub use encoding::Encoding;
 pub use env::VecEnv;
 pub use error::VecError;
 pub use options::{episode_seed, VecEnvOptions};
+pub use packed::{AutoReset, PackedBuffers, PackedGames};
