@@ -6,7 +6,9 @@ coordination research, with a Rust engine.
   metrics): hand them to PyTorch or JAX without copying.
 - :class:`Env` is one game with full introspection (legal actions by name, text rendering,
   observations in every encoding, ground truth, replays).
-- :func:`yokai.zoo.parallel_env` wraps :class:`Env` as a PettingZoo ``ParallelEnv``.
+- :func:`yokai.zoo.parallel_env` wraps :class:`Env` as a PettingZoo ``ParallelEnv``;
+  :mod:`yokai.gymnasium` gives Gymnasium's ``Env`` and ``VectorEnv``; :mod:`yokai.jax` a
+  JaxMARL ``MultiAgentEnv`` that works under ``jit``, ``vmap`` and ``scan``.
 
 Errors raised by the engine derive from :class:`YokaiError` (a ``ValueError``).
 """
@@ -20,6 +22,7 @@ from ._core import (
     YokaiError,
     __version__,
     configs,
+    derive_seed,
     episode_seed,
 )
 
@@ -44,6 +47,7 @@ __all__ = [
     "YokaiError",
     "__version__",
     "configs",
+    "derive_seed",
     "episode_seed",
     "policy_parameters",
     "pretrained_agents",

@@ -25,6 +25,10 @@ DType = Union[str, type, np.dtype]
 def episode_seed(seed: int, env: int, episode: int) -> int:
     """The deal seed of episode ``episode`` of game ``env`` in a VecEnv seeded ``seed``."""
 
+def derive_seed(seed: int, index: int) -> int:
+    """The seed derived from ``seed`` for ``index`` (game i's stream of ``VecEnv(seed)``)."""
+    ...
+
 def configs() -> list[str]:
     """Names of the built-in configurations (e.g. ``"9c-2p-perfect"``)."""
 
@@ -181,3 +185,27 @@ class Agent:
         """Tell the agent at ``seat`` that the acting seat is about to play ``action``."""
     @property
     def name(self) -> str: ...
+
+
+class PackedGames:
+    """Batches of games held outside Rust as packed bytes (``yokai.jax`` calls these)."""
+
+    packed_len: int
+    def __init__(self, config: str, encoding: str = "image") -> None: ...
+    @property
+    def observation_shape(self) -> list[int]: ...
+    @property
+    def num_actions(self) -> int: ...
+    @property
+    def num_players(self) -> int: ...
+    def reset(self, streams: npt.NDArray[np.uint64]) -> dict[str, Any]: ...
+    def step(
+        self,
+        states: npt.NDArray[np.uint8],
+        streams: npt.NDArray[np.uint64],
+        episodes: npt.NDArray[np.uint32],
+        actions: npt.NDArray[np.uint32],
+        autoreset: bool,
+    ) -> dict[str, Any]: ...
+    def observe(self, states: npt.NDArray[np.uint8], episodes: npt.NDArray[np.uint32]) -> dict[str, Any]: ...
+    def render(self, state: npt.NDArray[np.uint8]) -> str: ...
