@@ -10,7 +10,7 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use yokai_engine::{Config, PACKED_LEN};
-use yokai_vec::{AutoReset, Encoding, PackedBuffers, PackedGames};
+use yokai_vec::{AutoReset, Encoding, PackedBuffers, PackedGames, PackedOutputs};
 
 /// Batches of games held outside Rust as ``uint8[..., PACKED_LEN]`` arrays.
 ///
@@ -29,49 +29,7 @@ pub struct PyPackedGames {
     shape: Vec<usize>,
 }
 
-/// Owned outputs of one call.
-struct Out {
-    states: Vec<u8>,
-    episodes: Vec<u32>,
-    observations: Vec<f32>,
-    masks: Vec<u8>,
-    acting: Vec<u8>,
-    rewards: Vec<f32>,
-    shaping: Vec<f32>,
-    dones: Vec<u8>,
-    illegal: Vec<u8>,
-}
-
-impl Out {
-    fn new(games: &PackedGames, n: usize) -> Out {
-        let p = games.config().players();
-        Out {
-            states: vec![0; n * PACKED_LEN],
-            episodes: vec![0; n],
-            observations: vec![0.0; n * p * games.observation_len()],
-            masks: vec![0; n * p * games.config().num_actions()],
-            acting: vec![0; n],
-            rewards: vec![0.0; n],
-            shaping: vec![0.0; n],
-            dones: vec![0; n],
-            illegal: vec![0; n],
-        }
-    }
-
-    fn buffers(&mut self) -> PackedBuffers<'_, f32> {
-        PackedBuffers {
-            states: &mut self.states,
-            episodes: &mut self.episodes,
-            observations: &mut self.observations,
-            masks: &mut self.masks,
-            acting: &mut self.acting,
-            rewards: &mut self.rewards,
-            shaping: &mut self.shaping,
-            dones: &mut self.dones,
-            illegal: &mut self.illegal,
-        }
-    }
-}
+type Out = PackedOutputs<f32>;
 
 /// The batch size of `array`'s first axis, or a ValueError naming it.
 fn batch(what: &str, shape: &[usize], n: Option<usize>) -> PyResult<usize> {
@@ -87,6 +45,18 @@ fn batch(what: &str, shape: &[usize], n: Option<usize>) -> PyResult<usize> {
 }
 
 impl PyPackedGames {
+    /// Run one batch call for `n` games without the GIL, and hand its outputs to Python.
+    fn run<'py>(
+        &self,
+        py: Python<'py>,
+        n: usize,
+        call: impl FnOnce(PackedBuffers<'_, f32>) -> Result<(), yokai_vec::VecError> + Send,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let mut out = Out::new(&self.games, n);
+        py.detach(|| call(out.buffers())).map_err(vec_error)?;
+        self.dict(py, out, n)
+    }
+
     fn dict<'py>(&self, py: Python<'py>, out: Out, n: usize) -> PyResult<Bound<'py, PyDict>> {
         let p = self.games.config().players();
         let n_a = self.games.config().num_actions();
@@ -166,10 +136,7 @@ impl PyPackedGames {
     ) -> PyResult<Bound<'py, PyDict>> {
         let streams: Vec<u64> = streams.as_array().to_vec();
         let n = streams.len();
-        let mut out = Out::new(&self.games, n);
-        py.detach(|| self.games.reset(&streams, out.buffers()))
-            .map_err(vec_error)?;
-        self.dict(py, out, n)
+        self.run(py, n, |out| self.games.reset(&streams, out))
     }
 
     /// Step every game with one action per seat (``actions`` ``uint32[n, P]``, NOOP = 0
@@ -202,13 +169,10 @@ impl PyPackedGames {
         } else {
             AutoReset::No
         };
-        let mut out = Out::new(&self.games, n);
-        py.detach(|| {
+        self.run(py, n, |out| {
             self.games
-                .step(&states, &streams, &episodes, &actions, reset, out.buffers())
+                .step(&states, &streams, &episodes, &actions, reset, out)
         })
-        .map_err(vec_error)?;
-        self.dict(py, out, n)
     }
 
     /// Observations, masks and acting seats of the games as they are.
@@ -221,10 +185,7 @@ impl PyPackedGames {
         let n = batch("episodes", episodes.shape(), None)?;
         let states = Self::states(&states, n)?;
         let episodes: Vec<u32> = episodes.as_array().to_vec();
-        let mut out = Out::new(&self.games, n);
-        py.detach(|| self.games.observe(&states, &episodes, out.buffers()))
-            .map_err(vec_error)?;
-        self.dict(py, out, n)
+        self.run(py, n, |out| self.games.observe(&states, &episodes, out))
     }
 
     /// One packed game's board as text, as the truth shows it (to look at a state held

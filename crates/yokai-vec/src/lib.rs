@@ -47,4 +47,4 @@ pub use encoding::Encoding;
 pub use env::VecEnv;
 pub use error::VecError;
 pub use options::{episode_seed, VecEnvOptions};
-pub use packed::{AutoReset, PackedBuffers, PackedGames};
+pub use packed::{AutoReset, PackedBuffers, PackedGames, PackedOutputs};

@@ -46,6 +46,52 @@ pub struct PackedBuffers<'a, T> {
     pub illegal: &'a mut [u8],
 }
 
+/// Owned buffers for `n` games, for callers that hand each call's results over whole (the
+/// Python binding returns them as new arrays).
+pub struct PackedOutputs<T> {
+    pub states: Vec<u8>,
+    pub episodes: Vec<u32>,
+    pub observations: Vec<T>,
+    pub masks: Vec<u8>,
+    pub acting: Vec<u8>,
+    pub rewards: Vec<f32>,
+    pub shaping: Vec<f32>,
+    pub dones: Vec<u8>,
+    pub illegal: Vec<u8>,
+}
+
+impl<T: Scalar> PackedOutputs<T> {
+    pub fn new(games: &PackedGames, n: usize) -> PackedOutputs<T> {
+        let p = games.config().players();
+        PackedOutputs {
+            states: vec![0; n * PACKED_LEN],
+            episodes: vec![0; n],
+            observations: vec![T::ZERO; n * p * games.observation_len()],
+            masks: vec![0; n * p * games.config().num_actions()],
+            acting: vec![0; n],
+            rewards: vec![0.0; n],
+            shaping: vec![0.0; n],
+            dones: vec![0; n],
+            illegal: vec![0; n],
+        }
+    }
+
+    /// Views of these buffers for one call.
+    pub fn buffers(&mut self) -> PackedBuffers<'_, T> {
+        PackedBuffers {
+            states: &mut self.states,
+            episodes: &mut self.episodes,
+            observations: &mut self.observations,
+            masks: &mut self.masks,
+            acting: &mut self.acting,
+            rewards: &mut self.rewards,
+            shaping: &mut self.shaping,
+            dones: &mut self.dones,
+            illegal: &mut self.illegal,
+        }
+    }
+}
+
 /// One game's share of [`PackedBuffers`].
 struct One<'b, T> {
     state: &'b mut [u8],
@@ -307,49 +353,6 @@ mod tests {
     use crate::{episode_seed, VecEnv, VecEnvOptions};
     use yokai_engine::{ImageLayout, Part};
 
-    /// Owned buffers for `n` games.
-    struct Owned {
-        states: Vec<u8>,
-        episodes: Vec<u32>,
-        observations: Vec<f32>,
-        masks: Vec<u8>,
-        acting: Vec<u8>,
-        rewards: Vec<f32>,
-        shaping: Vec<f32>,
-        dones: Vec<u8>,
-        illegal: Vec<u8>,
-    }
-
-    impl Owned {
-        fn new(games: &PackedGames, n: usize) -> Owned {
-            let p = games.config().players();
-            Owned {
-                states: vec![0; n * PACKED_LEN],
-                episodes: vec![0; n],
-                observations: vec![0.0; n * p * games.observation_len()],
-                masks: vec![0; n * p * games.config().num_actions()],
-                acting: vec![0; n],
-                rewards: vec![0.0; n],
-                shaping: vec![0.0; n],
-                dones: vec![0; n],
-                illegal: vec![0; n],
-            }
-        }
-        fn buffers(&mut self) -> PackedBuffers<'_, f32> {
-            PackedBuffers {
-                states: &mut self.states,
-                episodes: &mut self.episodes,
-                observations: &mut self.observations,
-                masks: &mut self.masks,
-                acting: &mut self.acting,
-                rewards: &mut self.rewards,
-                shaping: &mut self.shaping,
-                dones: &mut self.dones,
-                illegal: &mut self.illegal,
-            }
-        }
-    }
-
     /// Packed games on streams `derive_seed(seed, i)` play the games of a `VecEnv` seeded
     /// with `seed`, auto-resets included: every buffer equal at every step.
     #[test]
@@ -364,7 +367,7 @@ mod tests {
             let games = PackedGames::new(config, encoding).unwrap();
             let streams: Vec<u64> = (0..n as u64).map(|i| derive_seed(seed, i)).collect();
             assert_eq!(derive_seed(streams[5], 0), episode_seed(seed, 5, 0));
-            let mut a = Owned::new(&games, n);
+            let mut a = PackedOutputs::<f32>::new(&games, n);
             games.reset(&streams, a.buffers()).unwrap();
             let p = config.players();
             let mut finished = 0;
@@ -379,7 +382,7 @@ mod tests {
                     joint[i * p + a.acting[i] as usize] = acting[i];
                 }
                 vec.step(&acting).unwrap();
-                let mut b = Owned::new(&games, n);
+                let mut b = PackedOutputs::<f32>::new(&games, n);
                 let states = std::mem::take(&mut a.states);
                 let episodes = std::mem::take(&mut a.episodes);
                 games
@@ -410,40 +413,33 @@ mod tests {
     fn an_illegal_action_leaves_its_game_unchanged_and_is_flagged() {
         let config = Config::from_name("9c-2p-perfect").unwrap();
         let games = PackedGames::new(config, Encoding::None).unwrap();
-        let mut a = Owned::new(&games, 2);
+        let mut a = PackedOutputs::<f32>::new(&games, 2);
         games.reset(&[1, 2], a.buffers()).unwrap();
         // Game 0: the acting seat moves at substep 0 (illegal); game 1: the waiting seat
         // does not submit NOOP. Game 1's acting seat observes card 0 (legal on its own).
         let observe0 = config.encode(yokai_engine::Action::Observe(yokai_engine::Card(0)));
         let mv = config.num_actions() as u32 - 1;
-        let joint = [mv, 0, observe0 as u32, 5];
-        let mut b = Owned::new(&games, 2);
-        games
-            .step(
-                &a.states,
-                &[1, 2],
-                &a.episodes,
-                &joint,
-                AutoReset::Yes,
-                b.buffers(),
-            )
-            .unwrap();
+        let step = |joint: [u32; 4]| {
+            let mut out = PackedOutputs::<f32>::new(&games, 2);
+            let (states, episodes) = (&a.states, &a.episodes);
+            games
+                .step(
+                    states,
+                    &[1, 2],
+                    episodes,
+                    &joint,
+                    AutoReset::Yes,
+                    out.buffers(),
+                )
+                .unwrap();
+            out
+        };
+        let b = step([mv, 0, observe0 as u32, 5]);
         assert_eq!(b.illegal, [1, 1]);
         assert_eq!(b.states, a.states);
         assert_eq!((b.rewards, b.dones), (vec![0.0, 0.0], vec![0, 0]));
         // The same with the waiting seat's NOOP is legal and changes game 1.
-        let mut c = Owned::new(&games, 2);
-        let joint = [mv, 0, observe0 as u32, 0];
-        games
-            .step(
-                &a.states,
-                &[1, 2],
-                &a.episodes,
-                &joint,
-                AutoReset::Yes,
-                c.buffers(),
-            )
-            .unwrap();
+        let c = step([mv, 0, observe0 as u32, 0]);
         assert_eq!(c.illegal, [1, 0]);
         assert_ne!(c.states[PACKED_LEN..], a.states[PACKED_LEN..]);
     }
@@ -452,13 +448,13 @@ mod tests {
     fn bad_states_and_lengths_are_errors_naming_the_game_or_buffer() {
         let config = Config::from_name("9c-2p-perfect").unwrap();
         let games = PackedGames::new(config, Encoding::None).unwrap();
-        let mut a = Owned::new(&games, 40);
+        let mut a = PackedOutputs::<f32>::new(&games, 40);
         let streams: Vec<u64> = (0..40).collect();
         games.reset(&streams, a.buffers()).unwrap();
         let mut states = a.states.clone();
         states[35 * PACKED_LEN + 20] ^= 1;
         states[37 * PACKED_LEN + 20] ^= 1;
-        let mut b = Owned::new(&games, 40);
+        let mut b = PackedOutputs::<f32>::new(&games, 40);
         let err = games
             .observe(&states, &a.episodes, b.buffers())
             .unwrap_err();
