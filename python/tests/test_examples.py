@@ -100,3 +100,20 @@ def test_ppo_torch_asks_for_wandb_by_name_when_it_is_missing(monkeypatch):
     with pytest.raises(SystemExit, match="pip install wandb"):
         example.main(["--num-envs", "2", "--rollout-steps", "2", "--max-updates", "1", "--device", "cpu",
                       "--hidden", "8", "--filters", "4", "--wandb-project", "yokai-test"])
+
+
+def test_ppo_torch_learns_what_its_shaped_return_pays_for(tmp_path):
+    """40 updates of 64 games × 32 steps (82k env steps, about 20 s on 2 cores) with a small
+    network: the shaping reward pays for every card observed and hint placed, so games that
+    go on pay more than an early END, and the policy learns to stop ENDing. Random play
+    ENDs early in 64 % of games; measured here: 66 % in the first update, 3–8 % in the last
+    five. The test asks for a fall from at least 55 % to at most 20 %."""
+    example = load_example()
+    argv = ["--num-envs", "64", "--rollout-steps", "32", "--minibatches", "2", "--epochs", "2",
+            "--hidden", "64", "--filters", "16", "--lr", "1e-3", "--max-updates", "40",
+            "--device", "cpu", "--threads", "2"]
+    log = example.main(argv)
+    first = sum(line["early_end"] for line in log[:2]) / 2
+    last = sum(line["early_end"] for line in log[-5:]) / 5
+    assert first >= 0.55, f"the first updates should END as random play does, got {first:.2f}"
+    assert last <= 0.20, f"no learning: early END rate {first:.2f} -> {last:.2f}"
