@@ -36,6 +36,16 @@
 //! is reset and written in full. The channels-first layout (`image-chw`) is the cheapest to
 //! update, because its broadcast channels are two contiguous planes (`docs/performance.md`).
 
+//!
+//! ## Games the caller keeps: [`PackedGames`]
+//! A JAX training loop keeps the environment's state itself, in a pytree, and calls out
+//! once per step. [`PackedGames`] resets, steps and observes such batches: each game is
+//! [`yokai_engine::PACKED_LEN`] bytes ([`yokai_engine::Game::pack`]), each call is a pure
+//! function of its inputs, and stream `derive_seed(seed, i)` plays the games of env `i`
+//! of a [`VecEnv`] seeded with `seed`. It writes every observation in full, so it is
+//! several times slower per step than [`VecEnv`], which keeps its games and updates them
+//! in place.
+
 mod bits;
 mod encoding;
 mod env;
