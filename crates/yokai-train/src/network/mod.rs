@@ -591,11 +591,20 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
         ]);
         let mut h = h0;
         let mut states = Vec::with_capacity(t);
-        for s in 0..t {
-            let gx_s: Tensor<2> = gx.clone().narrow(1, s, 1).squeeze_dim(1);
-            let keep_s = keep.clone().narrow(1, s, 1);
-            h = self.memory.step(gx_s, h * keep_s);
-            states.push(h.clone());
+        // The steps read `gx` a chunk of about √T steps at a time. Autodiff's backward of a
+        // slice writes the slice's gradient into zeros of the whole sliced tensor, so T
+        // one-step slices of `gx` would fill and add T tensors of its full size (32 at the
+        // presets' T = 32); chunks first cut that to T/c + c of them (12).
+        let chunk = (t as f64).sqrt().round().max(1.0) as usize;
+        for start in (0..t).step_by(chunk) {
+            let len = chunk.min(t - start);
+            let gx_chunk = gx.clone().narrow(1, start, len);
+            for s in 0..len {
+                let gx_s: Tensor<2> = gx_chunk.clone().narrow(1, s, 1).squeeze_dim(1);
+                let keep_s = keep.clone().narrow(1, start + s, 1);
+                h = self.memory.step(gx_s, h * keep_s);
+                states.push(h.clone());
+            }
         }
         let all: Tensor<3> = Tensor::stack(states, 1);
         all.reshape([b * t, self.hidden])
