@@ -17,9 +17,11 @@ rustfmt --edition 2024 --check vendor/cubecl-llvm-nvrtc/src/lib.rs
 cargo clippy --workspace --all-targets --release -- -D warnings
 # The GPU builds (burn's Vulkan and CUDA runtimes) are compiled, not run: CI has no GPU, and
 # this keeps `--features vulkan` and `--features cuda` (with cubecl-llvm patched out for
-# vendor/cubecl-llvm-nvrtc) from rotting (docs/training.md, "Training on a GPU").
-cargo clippy -p yokai-cli --features vulkan --release -- -D warnings
-cargo clippy -p yokai-cli --features cuda --release -- -D warnings
+# vendor/cubecl-llvm-nvrtc) from rotting (docs/training.md, "Training on a GPU"). Test
+# targets included: the tests that exist only in a GPU build (the backend's device for
+# `cuda` and `vulkan`) are type-checked and linted, so they cannot rot unseen either.
+cargo clippy -p yokai-train -p yokai-cli --features yokai-train/vulkan --all-targets --release -- -D warnings
+cargo clippy -p yokai-train -p yokai-cli --features yokai-train/cuda --all-targets --release -- -D warnings
 # The Python extension without the trainer (no burn), as `MATURIN_PEP517_ARGS=
 # --no-default-features pip install ./python` builds it (docs/python.md).
 cargo clippy -p yokai-python --no-default-features --release -- -D warnings
