@@ -82,6 +82,11 @@ export YOKAI_STRICT_SKIPS=1
 if ! .venv/bin/python -c "import torch" 2> /dev/null; then
     export YOKAI_TORCH_MISSING=1
 fi
+# jax 0.10 and jaxmarl need Python >= 3.11 (python/pyproject.toml installs them only there):
+# below it test_jax.py is skipped, and says why.
+if ! .venv/bin/python -c "import sys; sys.exit(sys.version_info < (3, 11))"; then
+    export YOKAI_JAX_UNSUPPORTED=1
+fi
 # The browser test of `yokai serve` drives Debian's Chromium with Selenium (installed with
 # the test extra). Install the browser where we may (root on Debian, about 1 min); without
 # it that one test is skipped.

@@ -18,6 +18,10 @@ ALLOWED_SKIPS = {
         "YOKAI_TORCH_MISSING",
         "PyPI's PyTorch download failed three times, or the disk has under 7 GB free",
     ),
+    r"could not import '(jax|jaxmarl)'": (
+        "YOKAI_JAX_UNSUPPORTED",
+        "Python below 3.11, for which the `test` extra installs no jax or jaxmarl",
+    ),
     r"needs Debian's chromium and chromium-driver": (
         "YOKAI_NO_BROWSER",
         "not root on Debian, so the browser could not be installed",
