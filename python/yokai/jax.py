@@ -72,6 +72,13 @@ def streams_of_seed(seed: int, num_envs: int) -> np.ndarray:
     return np.stack([s & 0xFFFFFFFF, s >> 32], axis=-1).astype(np.uint32)
 
 
+def _rows(packed) -> Tuple[np.ndarray, tuple]:
+    """A callback's packed games ``[..., PACKED_LEN]`` (the batch axes ``vmap`` added) as
+    ``[n, PACKED_LEN]`` rows for the engine, and the batch axes to give its results back."""
+    packed = np.asarray(packed)
+    return packed.reshape(-1, PACKED_LEN), packed.shape[:-1]
+
+
 def _to_u64(stream: np.ndarray) -> np.ndarray:
     stream = np.asarray(stream, dtype=np.uint64)
     return stream[..., 0] | (stream[..., 1] << np.uint64(32))
@@ -202,11 +209,10 @@ class YokaiEnv(MultiAgentEnv):
         return self._unbatch(out, lead)
 
     def _step_host(self, packed, stream, episode, actions, autoreset):
-        packed = np.asarray(packed)
-        lead = packed.shape[:-1]
-        n = int(np.prod(lead, dtype=np.int64))
+        packed, lead = _rows(packed)
+        n = len(packed)
         out = self._games.step(
-            packed.reshape(n, PACKED_LEN),
+            packed,
             _to_u64(np.asarray(stream).reshape(n, 2)),
             np.asarray(episode, dtype=np.uint32).reshape(n),
             np.asarray(actions, dtype=np.uint32).reshape(n, self.num_agents),
@@ -215,10 +221,8 @@ class YokaiEnv(MultiAgentEnv):
         return self._unbatch(out, lead)
 
     def _observe_host(self, packed, episode):
-        packed = np.asarray(packed)
-        lead = packed.shape[:-1]
-        n = int(np.prod(lead, dtype=np.int64))
-        out = self._games.observe(packed.reshape(n, PACKED_LEN), np.asarray(episode, dtype=np.uint32).reshape(n))
+        packed, lead = _rows(packed)
+        out = self._games.observe(packed, np.asarray(episode, dtype=np.uint32).reshape(len(packed)))
         return self._unbatch(out, lead)
 
     def _observe(self, state: State):

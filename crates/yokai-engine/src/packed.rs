@@ -268,10 +268,6 @@ mod tests {
     use crate::deal::derive_seed;
     use proptest::prelude::*;
 
-    fn configs() -> Vec<Config> {
-        Config::presets()
-    }
-
     /// Random play from `seed`, calling `visit` on every state (the last one over).
     fn random_play(config: Config, seed: u64, mut visit: impl FnMut(&Game)) {
         let mut game = Game::new(config, seed);
@@ -288,7 +284,7 @@ mod tests {
 
     #[test]
     fn every_state_of_random_play_packs_and_unpacks_to_an_equal_game() {
-        for config in configs() {
+        for config in Config::presets() {
             for seed in 0..20 {
                 random_play(config, seed, |game| {
                     let bytes = game.pack();
