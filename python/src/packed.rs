@@ -63,19 +63,20 @@ impl PyPackedGames {
         let d = PyDict::new(py);
         let mut obs_shape = vec![n, p];
         obs_shape.extend(&self.shape);
-        let bools = |v: Vec<u8>| v.into_iter().map(|x| x == 1).collect::<Vec<bool>>();
+        // The flags are 0/1 bytes: NumPy views them as bool without a copy (a conversion in
+        // Rust would copy every mask byte on every step of a jitted loop).
+        let bools = |v: Vec<u8>, shape: &[usize]| {
+            arrays::owned(py, v, shape)?.call_method1("view", ("bool",))
+        };
         d.set_item("state", arrays::owned(py, out.states, &[n, PACKED_LEN])?)?;
         d.set_item("episode", arrays::owned(py, out.episodes, &[n])?)?;
         d.set_item("obs", arrays::owned(py, out.observations, &obs_shape)?)?;
-        d.set_item(
-            "legal_mask",
-            arrays::owned(py, bools(out.masks), &[n, p, n_a])?,
-        )?;
+        d.set_item("legal_mask", bools(out.masks, &[n, p, n_a])?)?;
         d.set_item("acting_seat", arrays::owned(py, out.acting, &[n])?)?;
         d.set_item("reward", arrays::owned(py, out.rewards, &[n])?)?;
         d.set_item("shaping", arrays::owned(py, out.shaping, &[n])?)?;
-        d.set_item("done", arrays::owned(py, bools(out.dones), &[n])?)?;
-        d.set_item("illegal", arrays::owned(py, bools(out.illegal), &[n])?)?;
+        d.set_item("done", bools(out.dones, &[n])?)?;
+        d.set_item("illegal", bools(out.illegal, &[n])?)?;
         Ok(d)
     }
 
