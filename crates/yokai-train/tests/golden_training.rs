@@ -7,6 +7,11 @@
 //! with `YOKAI_BLESS=1 cargo test --release -p yokai-train --test golden_training`, and
 //! says so in its commit. The figures are those of this machine's CPU: another CPU's
 //! float instructions may round differently, which the failure message says.
+//!
+//! burn's CPU backend multiplies matrices with gemm, which picks its kernels at run time:
+//! AVX-512 where the CPU has `avx512f`, FMA otherwise. The two sum in different orders, so
+//! each has its own files: `training-NAME.jsonl` for FMA (AVX2) CPUs, and
+//! `training-NAME.avx512.jsonl` for AVX-512 ones. Blessing writes the running CPU's kind.
 
 use serde_json::Value;
 use yokai_train::{MlpEncoder, TrainConfig, Trainer};
@@ -58,10 +63,26 @@ fn lines_of(name: &str) -> Vec<String> {
     })
 }
 
+/// The golden files' suffix for this CPU's matrix kernels (see the module's docs).
+#[cfg(target_arch = "x86_64")]
+fn kernels() -> &'static str {
+    if std::arch::is_x86_feature_detected!("avx512f") {
+        ".avx512"
+    } else {
+        ""
+    }
+}
+
+#[cfg(not(target_arch = "x86_64"))]
+fn kernels() -> &'static str {
+    ""
+}
+
 fn check(name: &str) {
     let path = format!(
-        "{}/tests/golden/training-{name}.jsonl",
-        env!("CARGO_MANIFEST_DIR")
+        "{}/tests/golden/training-{name}{}.jsonl",
+        env!("CARGO_MANIFEST_DIR"),
+        kernels()
     );
     let got = lines_of(name);
     if std::env::var_os("YOKAI_BLESS").is_some() {
