@@ -12,41 +12,6 @@ use yokai_train::run::checkpoint_config;
 use yokai_train::PolicySource;
 use yokai_train::{train_run, RunRequest, TrainConfig, TrainedPolicy};
 
-/// `(name, contents)` of each named file in `configs/`, built into the binary.
-macro_rules! presets {
-    ($($name:literal),* $(,)?) => {
-        &[$(($name, include_str!(concat!("../../../configs/", $name, ".toml")))),*]
-    };
-}
-
-/// The configs shipped in `configs/`, built into the binary so that their names work from
-/// any directory.
-const PRESETS: &[(&str, &str)] = presets!(
-    "quick",
-    "quick-op",
-    "obl-quick",
-    "obl-cpu",
-    "obl-9c-2p",
-    "cpu",
-    "cpu-fast",
-    "cpu-op",
-    "ippo-9c-2p",
-    "he-9c-2p",
-    "op-9c-2p",
-    "ippo-9c-3p",
-    "he-9c-3p",
-    "op-9c-3p",
-    "ippo-9c-4p",
-    "he-9c-4p",
-    "op-9c-4p",
-    "ippo-16c-2p",
-    "ippo-9c-2p-imperfect",
-    "ippo-gcn-9c-2p",
-    "ippo-gatv2-9c-2p",
-    "ippo-relation-9c-2p",
-    "ippo-trxl-9c-2p",
-);
-
 #[derive(clap::Args)]
 pub struct Args {
     /// Training config: a preset name (quick, quick-op, cpu, ippo-9c-2p, he-9c-2p, op-9c-2p, …;
@@ -115,24 +80,7 @@ fn load_config(
     name: &str,
     overrides: &[yokai_train::Override],
 ) -> anyhow::Result<(TrainConfig, String)> {
-    if let Some((preset, text)) = PRESETS.iter().find(|(n, _)| *n == name) {
-        let origin = format!("configs/{preset}.toml");
-        let config = TrainConfig::from_toml_with(text, &origin, overrides)?;
-        return Ok((config, preset.to_string()));
-    }
-    let path = Path::new(name);
-    if !path.exists() {
-        let names: Vec<&str> = PRESETS.iter().map(|(n, _)| *n).collect();
-        return Err(anyhow!(
-            "no training config `{name}`: not a preset ({}) and no such file",
-            names.join(", ")
-        ));
-    }
-    let config = TrainConfig::from_file_with(path, overrides)?;
-    let stem = path
-        .file_stem()
-        .map_or("run".into(), |s| s.to_string_lossy().to_string());
-    Ok((config, stem))
+    Ok(TrainConfig::named(name, overrides)?)
 }
 
 impl Args {
@@ -374,19 +322,13 @@ impl SeedJob<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use yokai_train::config::PRESETS;
 
     #[test]
     fn a_bad_seed_list_names_the_option() {
         assert_eq!(parse_seeds("0..3").unwrap(), vec![0, 1, 2]);
         let err = parse_seeds("3..3").unwrap_err().to_string();
         assert_eq!(err, "--seeds `3..3` is empty (A..B excludes B)");
-    }
-
-    #[test]
-    fn every_shipped_config_is_valid() {
-        for (name, text) in PRESETS {
-            TrainConfig::from_toml_str(text, name).unwrap_or_else(|e| panic!("{name}: {e}"));
-        }
     }
 
     /// The shipped preset `name`, parsed.
@@ -445,21 +387,5 @@ mod tests {
         quick.ppo.total_steps = fast.ppo.total_steps;
         quick.run.checkpoint_every = fast.run.checkpoint_every;
         assert_eq!(fast, quick);
-    }
-
-    #[test]
-    fn every_file_in_configs_is_a_preset() {
-        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../configs");
-        let mut files: Vec<String> = std::fs::read_dir(dir)
-            .unwrap()
-            .filter_map(|e| {
-                let name = e.unwrap().file_name().into_string().unwrap();
-                name.strip_suffix(".toml").map(String::from)
-            })
-            .collect();
-        files.sort();
-        let mut names: Vec<String> = PRESETS.iter().map(|(n, _)| n.to_string()).collect();
-        names.sort();
-        assert_eq!(files, names);
     }
 }

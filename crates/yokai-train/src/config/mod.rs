@@ -6,7 +6,7 @@
 //!
 //! One file per section, each struct beside its defaults and checks: [`ppo`], [`network`],
 //! [`algorithm`], [`obl`], [`act`], [`run`]; [`overrides`] applies `FIELD=VALUE` overrides
-//! (`yokai train --set`); this module holds the whole config, its file I/O and the rules
+//! (`yokai train --set`); [`presets`] holds the shipped configs of `configs/`; this module holds the whole config, its file I/O and the rules
 //! that tie sections together.
 
 mod act;
@@ -15,6 +15,7 @@ mod network;
 mod obl;
 mod overrides;
 mod ppo;
+mod presets;
 mod run;
 
 pub use act::ActConfig;
@@ -25,6 +26,7 @@ pub use network::{
 pub use obl::{OblConfig, OblPartner};
 pub use overrides::Override;
 pub use ppo::{EndForm, PpoConfig};
+pub use presets::PRESETS;
 pub use run::RunConfig;
 
 use serde::{Deserialize, Serialize};
