@@ -1,13 +1,25 @@
 //! The actor: the batched games, the symmetry each seat sees its game through, every seat's
 //! memory, and each game's actions so far. It shows the network what every seat sees and
-//! steps the games with the seats' choices; it knows nothing of learning.
+//! steps the games with the seats' choices; it knows nothing of learning. The trainer plays
+//! through it, and so does Python's `yokai.TrainEnv`, so a trainer written in another
+//! framework sees the games, the Other-Play symmetries and the centralised-training
+//! columns exactly as this one does.
 
-use yokai_engine::{derive_seed, Card, Config, EpisodeRecord, Game, RecordedGame, Seat, Symmetry};
-use yokai_vec::{episode_seed, Encoding, VecEnv};
+use crate::config::TrainConfig;
+use crate::error::TrainError;
+use yokai_engine::{
+    derive_seed, Action, Card, Config, EpisodeRecord, Game, RecordedGame, Seat, Symmetry,
+};
+use yokai_vec::{episode_seed, Encoding, VecEnv, VecEnvOptions};
+
+/// The seed of a run's batch of games.
+fn env_seed(run_seed: u64) -> u64 {
+    derive_seed(run_seed, 0xE5)
+}
 
 /// The games of one run, as its seats see and play them. Row `r` of every buffer is seat
 /// `r % P` of game `r / P`.
-pub(crate) struct Actor {
+pub struct Actor {
     env: VecEnv<f32>,
     game: Config,
     /// The run's seed: each seat's symmetry is drawn from it per episode.
@@ -30,6 +42,25 @@ pub(crate) struct Actor {
 }
 
 impl Actor {
+    /// The games of a run of `config` with `seed`: `ppo.num_envs` games dealt from the
+    /// run's seed, read in `encoding`, each seat seeing its game through a symmetry drawn
+    /// from `algorithm.symmetries` per episode, every memory of width `hidden` zeroed.
+    pub fn for_run(
+        config: &TrainConfig,
+        seed: u64,
+        encoding: Encoding,
+        hidden: usize,
+    ) -> Result<Actor, TrainError> {
+        let game = config.game_config()?;
+        let mut options = VecEnvOptions::new(config.ppo.num_envs, env_seed(seed));
+        options.encoding = encoding;
+        options.threads = (config.run.threads > 0).then_some(config.run.threads);
+        let env = VecEnv::<f32>::new(game, options)?;
+        let s = config.algorithm.symmetries;
+        let symmetries = Symmetry::enumerate(&game, s.colours(), s.rotations(), false);
+        Ok(Actor::new(env, seed, env_seed(seed), symmetries, hidden))
+    }
+
     /// `env`'s games seen through `symmetries` (each seat draws one per episode from
     /// `seed`), every memory of width `hidden` zeroed.
     pub fn new(
@@ -164,6 +195,25 @@ impl Actor {
         let p = self.game.players();
         (0..self.rows())
             .map(|r| (self.env.game(r / p).steps() > 0) as u8 as f32)
+            .collect()
+    }
+
+    /// What END would pay in each game now (`Game::end_reward`, the game's R if its acting
+    /// seat ended it), where the acting seat may END; 0 where it may not. What the END term
+    /// of `ppo.end_lookahead` reads.
+    pub fn end_rewards(&self) -> Vec<f32> {
+        let end = self.game.encode(Action::End);
+        let (na, p) = (self.n_actions, self.game.players());
+        let masks = self.env.legal_masks();
+        (0..self.env.num_envs())
+            .map(|i| {
+                let row = i * p + self.env.acting_seats()[i] as usize;
+                if masks[row * na + end] == 1 {
+                    self.env.game(i).end_reward() as f32
+                } else {
+                    0.0
+                }
+            })
             .collect()
     }
 

@@ -13,7 +13,7 @@
 //! - [`policy`]: trained networks seated as players, [`pretrained`]: the agents built in,
 //!   and [`source`]: a policy by name (a bot, a pretrained agent or a trained file) and
 //!   its END rule, as every front end reads one;
-//! - algorithms: `actor` (the batched games as the seats see and play them), [`obl`]
+//! - algorithms: [`actor`] (the batched games as the seats see and play them), [`obl`]
 //!   (beliefs and fictitious continuations), then [`trainer`] (PPO);
 //! - [`probe`] and [`run`] (a run directory over the trainer).
 
@@ -33,7 +33,7 @@ pub mod policy;
 pub mod pretrained;
 pub mod source;
 
-pub(crate) mod actor;
+pub mod actor;
 pub mod obl;
 pub mod trainer;
 

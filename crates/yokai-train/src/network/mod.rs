@@ -51,6 +51,19 @@ pub fn for_network<J: NetworkJob>(network: &NetworkConfig, job: J) -> J::Output 
     }
 }
 
+/// The observation encoding the encoder `network` names reads (what a trainer outside Rust
+/// must show it).
+pub fn encoding_of(network: &NetworkConfig) -> Encoding {
+    struct Reads;
+    impl NetworkJob for Reads {
+        type Output = Encoding;
+        fn run<E: Encoder + 'static, M: Recurrent + 'static>(self) -> Encoding {
+            E::encoding()
+        }
+    }
+    for_network(network, Reads)
+}
+
 /// Maps a batch of flattened observations `[B, L]` to embeddings `[B, output_size]`.
 pub trait Encoder: Module + burn::module::ModuleDisplay + Sized + Sync {
     /// The `network.encoder` kinds this type implements (a checkpoint's config names one).

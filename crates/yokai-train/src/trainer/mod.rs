@@ -40,7 +40,7 @@ use rand_chacha::rand_core::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 use yokai_engine::{derive_seed, Config, EpisodeRecord, Metrics, Symmetry};
-use yokai_vec::{VecEnv, VecEnvOptions};
+use yokai_vec::VecEnv;
 
 /// One update's figures, for the metrics log and the progress bar.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -119,11 +119,6 @@ pub struct Trainer<E: Encoder, M: Recurrent = GruCell> {
     previous: Option<PreviousLevel>,
 }
 
-/// The seed of a run's batch of games.
-fn env_seed(run_seed: u64) -> u64 {
-    derive_seed(run_seed, 0xE5)
-}
-
 fn optimizer(config: &TrainConfig) -> ModuleOptimizer {
     AdamConfig::new()
         .with_epsilon(config.ppo.adam_eps as f32)
@@ -163,14 +158,7 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         let game = config.game_config()?;
         let device = infer_device.clone().autodiff();
         let model = ActorCritic::<E, M>::new(&config, &game, derive_seed(seed, 0xC0FFEE), &device);
-        let n = config.ppo.num_envs;
-        let mut options = VecEnvOptions::new(n, env_seed(seed));
-        options.encoding = E::encoding();
-        options.threads = (config.run.threads > 0).then_some(config.run.threads);
-        let env = VecEnv::<f32>::new(game, options)?;
-        let s = config.algorithm.symmetries;
-        let symmetries = Symmetry::enumerate(&game, s.colours(), s.rotations(), false);
-        let actor = Actor::new(env, seed, env_seed(seed), symmetries, model.hidden_size());
+        let actor = Actor::for_run(&config, seed, E::encoding(), model.hidden_size())?;
         let previous = if config.obl.level >= 2 {
             Some(PreviousLevel::load(
                 &config,
