@@ -14,7 +14,7 @@ use std::io::Write;
 use std::path::Path;
 use yokai_engine::digest::{fnv1a, Fnv1a};
 
-const MAGIC: &[u8] = b"YOKAI-TRAIN\n";
+pub(crate) const MAGIC: &[u8] = b"YOKAI-TRAIN\n";
 const VERSION: u32 = 2;
 /// Versions this build reads.
 const READABLE: [u32; 2] = [1, 2];

@@ -3,9 +3,9 @@
 //! directory) with its network section ready to load.
 
 use super::container::Container;
-use super::names::{CHECKPOINT, POLICY};
+use super::names::{CHECKPOINT, POLICY, SAFETENSORS_POLICY};
 use crate::config::TrainConfig;
-use crate::error::TrainError;
+use crate::error::{FileError, TrainError};
 use burn::module::Module;
 use burn::store::ModuleRecord;
 use burn::tensor::Bytes;
@@ -77,12 +77,16 @@ fn with_current_names(bytes: &[u8]) -> Result<Bytes, burn_pack::Error> {
 }
 
 /// The file a policy path names: `path` itself, or for a run directory its `policy.ykp`,
-/// else its checkpoint.
+/// else its checkpoint, else the `policy.safetensors` a trainer outside Rust wrote
+/// (`python -m yokai.torch_train`).
 fn policy_file(path: &Path) -> PathBuf {
     if path.is_dir() {
         let policy = path.join(POLICY);
+        let exported = path.join(SAFETENSORS_POLICY);
         if policy.exists() {
             policy
+        } else if !path.join(CHECKPOINT).exists() && exported.exists() {
+            exported
         } else {
             path.join(CHECKPOINT)
         }
@@ -92,20 +96,69 @@ fn policy_file(path: &Path) -> PathBuf {
 }
 
 /// A policy file, checkpoint or run directory opened and its header read: the training
-/// config and the game it was written for, and its sections (the network is `model`).
+/// config and the game it was written for, and where its network's weights are.
 pub(crate) struct PolicyFile {
     pub path: PathBuf,
-    pub file: Container,
+    weights: Weights,
     pub header: FileHeader,
     pub config: TrainConfig,
     pub game: Config,
 }
 
+/// Where a policy's weights are: the `model` section of a container, or a SafeTensors
+/// file with the training config and the game in its metadata
+/// ([`super::safetensors`]).
+enum Weights {
+    Container(Container),
+    Safetensors,
+}
+
 impl PolicyFile {
     pub fn open(path: &Path) -> Result<PolicyFile, TrainError> {
         let path = policy_file(path);
-        let file = Container::read(&path)?;
-        PolicyFile::from_container(file, path)
+        let bytes = std::fs::read(&path).map_err(|e| FileError::Io {
+            path: path.clone(),
+            message: e.to_string(),
+        })?;
+        if !bytes.starts_with(super::container::MAGIC) && super::safetensors::looks_like(&bytes) {
+            return PolicyFile::from_safetensors(&bytes, path);
+        }
+        PolicyFile::from_container(Container::from_bytes(&bytes, &path)?, path)
+    }
+
+    /// A SafeTensors file whose metadata holds the training config and the game (TOML):
+    /// the header is made from them (kind `safetensors`; seed, update and env steps where
+    /// the metadata has them, else 0).
+    fn from_safetensors(bytes: &[u8], path: PathBuf) -> Result<PolicyFile, TrainError> {
+        use super::safetensors::*;
+        let meta = read_metadata(bytes, &path)?;
+        let text = |key: &str| {
+            meta.get(key).cloned().ok_or_else(|| FileError::Missing {
+                path: path.clone(),
+                section: format!("metadata {key}"),
+            })
+        };
+        let number = |key: &str| -> Result<u64, TrainError> {
+            match meta.get(key) {
+                None => Ok(0),
+                Some(v) => v.parse().map_err(|_| {
+                    FileError::Corrupt {
+                        path: path.clone(),
+                        what: format!("metadata {key} = {v:?} is not a whole number"),
+                    }
+                    .into()
+                }),
+            }
+        };
+        let header = FileHeader {
+            kind: "safetensors".into(),
+            train_config: text(META_TRAIN_CONFIG)?,
+            game: text(META_GAME)?,
+            seed: number(META_SEED)?,
+            update: number(META_UPDATE)?,
+            env_steps: number(META_ENV_STEPS)?,
+        };
+        PolicyFile::from_header(header, Weights::Safetensors, path)
     }
 
     /// A policy file held in memory (the pretrained agents built into the library);
@@ -118,6 +171,14 @@ impl PolicyFile {
 
     fn from_container(file: Container, path: PathBuf) -> Result<PolicyFile, TrainError> {
         let header = read_header(&file, &path)?;
+        PolicyFile::from_header(header, Weights::Container(file), path)
+    }
+
+    fn from_header(
+        header: FileHeader,
+        weights: Weights,
+        path: PathBuf,
+    ) -> Result<PolicyFile, TrainError> {
         let shown = path.display().to_string();
         let config = TrainConfig::from_toml_str(&header.train_config, &shown)?;
         let game = Config::from_toml_str(&header.game, &shown).map_err(|source| {
@@ -128,17 +189,22 @@ impl PolicyFile {
         })?;
         Ok(PolicyFile {
             path,
-            file,
+            weights,
             header,
             config,
             game,
         })
     }
 
-    /// The `model` section loaded into `model`, which must be the same network.
+    /// The network's weights loaded into `model`, which must be the same network.
     pub fn load_into<M: burn::module::Module>(&self, model: M) -> Result<M, TrainError> {
-        let bytes = self.file.section(&self.path, "model")?;
-        load_model(model, bytes, &self.path.display().to_string())
+        match &self.weights {
+            Weights::Container(file) => {
+                let bytes = file.section(&self.path, "model")?;
+                load_model(model, bytes, &self.path.display().to_string())
+            }
+            Weights::Safetensors => super::safetensors::read_into(model, &self.path),
+        }
     }
 }
 

@@ -5,6 +5,9 @@ use std::path::{Path, PathBuf};
 
 pub const CHECKPOINT: &str = "checkpoint.ykc";
 pub const POLICY: &str = "policy.ykp";
+/// The policy a trainer outside Rust writes (`python -m yokai.torch_train`): SafeTensors
+/// with the training config and game as metadata (`artifact::safetensors`).
+pub const SAFETENSORS_POLICY: &str = "policy.safetensors";
 pub const METRICS: &str = "metrics.jsonl";
 pub const BELIEF_METRICS: &str = "belief.jsonl";
 
@@ -20,7 +23,9 @@ pub fn seed_path(path: &Path, seed: u64) -> PathBuf {
 }
 
 /// Whether `dir` is a run directory: it holds a policy file or a checkpoint (what
-/// `TrainedPolicy::load` can seat).
+/// `TrainedPolicy::load` can seat), or the policy of a PyTorch run.
 pub fn is_run(dir: &Path) -> bool {
-    dir.join(POLICY).is_file() || dir.join(CHECKPOINT).is_file()
+    dir.join(POLICY).is_file()
+        || dir.join(CHECKPOINT).is_file()
+        || dir.join(SAFETENSORS_POLICY).is_file()
 }
