@@ -12,6 +12,8 @@ mod errors;
 mod packed;
 #[cfg(feature = "trained")]
 mod probe;
+#[cfg(feature = "trained")]
+mod train_env;
 mod vec_env;
 
 use pyo3::prelude::*;
@@ -64,6 +66,8 @@ fn yokai_core(m: &Bound<'_, PyModule>) -> PyResult<()> {
         m.add_function(wrap_pyfunction!(agent::pretrained_agents, m)?)?;
         m.add_function(wrap_pyfunction!(probe::probe_records, m)?)?;
         m.add_function(wrap_pyfunction!(probe::probe_accuracy, m)?)?;
+        m.add_function(wrap_pyfunction!(train_env::policy_step, m)?)?;
+        m.add_class::<train_env::PyTrainEnv>()?;
     }
     m.add("YokaiError", py.get_type::<errors::YokaiError>())?;
     m.add("ConfigError", py.get_type::<errors::ConfigError>())?;

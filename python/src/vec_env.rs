@@ -96,7 +96,7 @@ impl PyVecEnv {
 }
 
 /// The `final` dict: one array per metric over the games that ended this step.
-fn final_metrics<'py>(
+pub fn final_metrics<'py>(
     py: Python<'py>,
     outcomes: &[Option<Outcome>],
 ) -> PyResult<Bound<'py, PyDict>> {

@@ -9,6 +9,9 @@ coordination research, with a Rust engine.
 - :func:`yokai.zoo.parallel_env` wraps :class:`Env` as a PettingZoo ``ParallelEnv``;
   :mod:`yokai.gymnasium` gives Gymnasium's ``Env`` and ``VectorEnv``; :mod:`yokai.jax` a
   JaxMARL ``MultiAgentEnv`` that works under ``jit``, ``vmap`` and ``scan``.
+- :class:`TrainEnv` is the batched games of a training run as ``yokai train`` plays them
+  (a row per seat, Other-Play symmetries, true colours, what END would pay);
+  ``python -m yokai.torch_train`` trains the Rust presets on it in PyTorch.
 
 Errors raised by the engine derive from :class:`YokaiError` (a ``ValueError``).
 """
@@ -27,7 +30,7 @@ from ._core import (
 )
 
 try:  # absent from a wheel built with --no-default-features (no trainer, no burn)
-    from ._core import policy_parameters, pretrained_agents, probe_accuracy, probe_records
+    from ._core import TrainEnv, policy_parameters, policy_step, pretrained_agents, probe_accuracy, probe_records
 except ImportError:  # pragma: no cover - exercised by the no-default-features build only
 
     def _needs_trainer(*_args, **_kwargs):
@@ -36,13 +39,14 @@ except ImportError:  # pragma: no cover - exercised by the no-default-features b
             "install it with the default features for trained policies and probes"
         )
 
-    policy_parameters = pretrained_agents = probe_accuracy = probe_records = _needs_trainer
+    policy_parameters = pretrained_agents = probe_accuracy = probe_records = policy_step = TrainEnv = _needs_trainer
 
 __all__ = [
     "ConfigError",
     "Env",
     "IllegalActionError",
     "ReplayError",
+    "TrainEnv",
     "VecEnv",
     "YokaiError",
     "__version__",
@@ -50,6 +54,7 @@ __all__ = [
     "derive_seed",
     "episode_seed",
     "policy_parameters",
+    "policy_step",
     "pretrained_agents",
     "probe_accuracy",
     "probe_records",

@@ -59,6 +59,51 @@ def probe_accuracy(
     ``chance``) on the other 20 %, or on all of ``test``. ``records`` may hold any agent's
     states (same keys as ``probe_records`` returns)."""
 
+def policy_step(
+    path: str, env: "Env", seat: int, state: Optional[npt.ArrayLike] = None
+) -> tuple[Optional[npt.NDArray[np.float32]], npt.NDArray[np.float32]]:
+    """One step of the trained network at ``path`` for ``seat`` of ``env``'s game, from its
+    memory ``state`` (None: fresh): (logits [N_a] or None where the seat waits, new state)."""
+
+class TrainEnv:
+    """The batched games of a training run as ``yokai train`` plays them: a row per seat,
+    each row's Other-Play view, the true colours and what END would pay."""
+
+    def __init__(self, config: str, seed: int = 0, set: Sequence[str] = ...) -> None: ...
+    def observe(self) -> dict[str, Any]:
+        """``obs`` [rows, ...] and ``legal_mask`` [rows, N_a] float32 in each row's view,
+        ``keep`` [rows], ``acting_seat`` [N], ``truth`` [rows, Y] uint8, ``end_reward`` [N]."""
+    def step(self, actions: npt.ArrayLike) -> dict[str, Any]:
+        """One action per row in its own view: ``reward``, ``shaping``, ``done``, ``final``."""
+    @property
+    def train_config(self) -> str: ...
+    @property
+    def name(self) -> str: ...
+    @property
+    def game_config(self) -> str: ...
+    @property
+    def num_envs(self) -> int: ...
+    @property
+    def num_players(self) -> int: ...
+    @property
+    def num_rows(self) -> int: ...
+    @property
+    def num_actions(self) -> int: ...
+    @property
+    def num_cards(self) -> int: ...
+    @property
+    def num_colours(self) -> int: ...
+    @property
+    def num_hints(self) -> int: ...
+    @property
+    def grid(self) -> int: ...
+    @property
+    def observation_shape(self) -> list[int]: ...
+    @property
+    def end_action(self) -> int: ...
+    @property
+    def channels(self) -> dict[str, int]: ...
+
 class VecEnv:
     """N games of one configuration stepped together on all cores.
 
