@@ -116,6 +116,8 @@ def test_a_torch_policy_is_a_policy_every_front_end_plays(tmp_path):
         capture_output=True, text=True,
     )
     assert report.returncode == 0, report.stderr
+    # Its metrics.jsonl reads as the Rust trainer's: eval draws the run's learning curves.
+    assert (tmp_path / "eval" / "learning_return.png").exists()
     # A run that exists is not overwritten without --resume; --resume goes on to the budget.
     again = subprocess.run([sys.executable, "-m", "yokai.torch_train", _write(EVERY_LAYER), "--out", str(out)],
                            capture_output=True, text=True)

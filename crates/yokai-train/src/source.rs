@@ -5,7 +5,7 @@
 //! `serve`, `train`'s evaluation and Python's `yokai.Agent` all read policies through this
 //! one definition.
 
-use crate::artifact::names::{CHECKPOINT, POLICY};
+use crate::artifact::names::{CHECKPOINT, POLICY, SAFETENSORS_POLICY};
 use crate::config::ActConfig;
 use crate::error::TrainError;
 use crate::policy::TrainedPolicy;
@@ -162,7 +162,7 @@ pub fn end_rule_label(p: &TrainedPolicy) -> String {
 /// The run directory of a policy file or checkpoint inside one (else the path itself).
 pub fn run_dir_of(path: &Path) -> PathBuf {
     match path.file_name().and_then(|f| f.to_str()) {
-        Some(POLICY) | Some(CHECKPOINT) => {
+        Some(POLICY) | Some(CHECKPOINT) | Some(SAFETENSORS_POLICY) => {
             path.parent().map_or(path.to_path_buf(), Path::to_path_buf)
         }
         _ => path.to_path_buf(),

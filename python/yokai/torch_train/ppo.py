@@ -67,9 +67,11 @@ class Games:
     won: list = field(default_factory=list)
     early_end: list = field(default_factory=list)
     length: list = field(default_factory=list)
+    correct_hints: list = field(default_factory=list)
+    wrong_hints: list = field(default_factory=list)
 
     def add(self, final: dict, done: np.ndarray) -> None:
-        for key in ("reward", "won", "early_end", "length"):
+        for key in ("reward", "won", "early_end", "length", "correct_hints", "wrong_hints"):
             getattr(self, key).extend(final[key][done].tolist())
 
     def metrics(self) -> dict | None:
@@ -85,7 +87,10 @@ class Games:
             "win_rate": float(won.mean()),
             "early_end": float(early.mean()),
             "successful_early_end": float((won & early).mean()),
+            "win_given_early_end": float(won[early].mean()) if early.any() else None,
             "length": float(np.mean(self.length)),
+            "correct_hints": float(np.mean(self.correct_hints)),
+            "wrong_hints": float(np.mean(self.wrong_hints)),
         }
 
 
@@ -188,18 +193,24 @@ class Trainer:
         c = self.c
         for group in self.optim.param_groups:
             group["lr"] = lr
-        sums = {"policy_loss": 0.0, "value_loss": 0.0, "approx_kl": 0.0, "clip_fraction": 0.0, "grad_norm": 0.0}
-        count = 0
+        sums = {"policy_loss": 0.0, "value_loss": 0.0, "approx_kl": 0.0, "clip_fraction": 0.0, "grad_norm": 0.0,
+                "belief_loss": 0.0, "belief_accuracy": 0.0}
+        count, replay_error = 0, 0.0
         mb = self.rows // c["minibatches"]
         for _ in range(c["epochs"]):
             order = torch.randperm(self.rows, generator=self.generator).to(self.device)
             for k in range(c["minibatches"]):
                 batch = order[k * mb : self.rows if k + 1 == c["minibatches"] else (k + 1) * mb]
                 out = self.learn_minibatch(ro, batch)
+                if count == 0:
+                    replay_error = out["abs_delta"]
                 for key in sums:
                     sums[key] += out[key]
                 count += 1
-        return {k: v / count for k, v in sums.items()}
+        means = {k: v / count for k, v in sums.items()}
+        if self.c["belief_aux"] <= 0:
+            del means["belief_loss"], means["belief_accuracy"]
+        return {**means, "replay_error": replay_error, "explained_variance": explained_variance(ro)}
 
     def learn_minibatch(self, ro: dict, batch: torch.Tensor) -> dict:
         c, m, s = self.c, self.model, self.shapes
@@ -225,7 +236,7 @@ class Trainer:
         n = len(idx)
         zero = torch.zeros((), device=self.device)
         policy_loss = entropy = end_bonus = belief = zero
-        kl = clip_fraction = 0.0
+        kl = clip_fraction = abs_delta = hits = 0.0
         if n:
             logits, colour_logits = m.heads(obs[idx], states[idx])
             mask_c = mask[idx]
@@ -246,16 +257,19 @@ class Trainer:
             if colour_logits is not None and c["belief_aux"] > 0:
                 log_p = F.log_softmax(colour_logits, 2)
                 belief = -(log_p * one_hot[idx]).sum() / (n * s.cards)
+                hits = float((log_p.argmax(2) == truth[idx]).float().mean())
             with torch.no_grad():
                 kl = float((ratio - 1 - delta).mean())
                 clip_fraction = float(((ratio - 1).abs() > c["clip"]).float().mean())
+                abs_delta = float(delta.abs().mean())
         loss = policy_loss + c["value_coef"] * value_loss - c["entropy_coef"] * entropy - end_bonus + c["belief_aux"] * belief
         self.optim.zero_grad(set_to_none=True)
         loss.backward()
         grad_norm = torch.nn.utils.clip_grad_norm_(m.parameters(), c["max_grad_norm"])
         self.optim.step()
         return {"policy_loss": float(policy_loss.detach()), "value_loss": float(value_loss.detach()), "approx_kl": kl,
-                "clip_fraction": clip_fraction, "grad_norm": float(grad_norm)}
+                "clip_fraction": clip_fraction, "grad_norm": float(grad_norm), "abs_delta": abs_delta,
+                "belief_loss": float(belief.detach()), "belief_accuracy": hits}
 
     def end_terms(self, lp, mask, paid, old_v) -> torch.Tensor:
         """The END entropy bonus and the END term, averaged over the rows where END is
@@ -309,6 +323,14 @@ class Trainer:
             "yokai.env_steps": str(self.update * per),
             "yokai.trainer": "yokai.torch_train",
         }
+
+
+def explained_variance(ro: dict) -> float | None:
+    """1 − Var(return − V) / Var(return) over the rollout (``None`` where returns are
+    constant), as the Rust trainer reports it."""
+    ret, v = ro["returns"].flatten().double(), ro["values"].flatten().double()
+    var = float(ret.var(unbiased=False))
+    return None if var == 0 else 1.0 - float((ret - v).var(unbiased=False)) / var
 
 
 def _toml(text: str) -> dict:
