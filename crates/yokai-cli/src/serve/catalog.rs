@@ -255,4 +255,25 @@ mod tests {
             .unwrap();
         assert!(format!("{e:#}").contains("no run directory"), "{e:#}");
     }
+
+    /// A PyTorch run (`python -m yokai.torch_train`) holds `policy.safetensors` alone: it
+    /// is a run directory like a Rust one, offered under its name; stray files are not.
+    #[test]
+    fn a_pytorch_run_directory_is_offered_as_a_run() {
+        let dir = tempfile::tempdir().unwrap();
+        for (run, file) in [
+            ("torch/seed-0", "policy.safetensors"),
+            ("rust", "policy.ykp"),
+        ] {
+            std::fs::create_dir_all(dir.path().join(run)).unwrap();
+            std::fs::write(dir.path().join(run).join(file), b"x").unwrap();
+        }
+        std::fs::write(dir.path().join("notes.safetensors"), b"x").unwrap();
+        let names: Vec<String> = policies_under(dir.path())
+            .unwrap()
+            .into_iter()
+            .map(|(name, _)| name)
+            .collect();
+        assert_eq!(names, ["rust", "torch/seed-0"]);
+    }
 }
