@@ -1,0 +1,63 @@
+#!/usr/bin/env python3
+"""Learning curves of groups of runs side by side, as a Markdown table: at each env-step
+point, the mean ± SE over a group's seeds of its training games' R and SEE, each seed's
+value the mean over the updates in the window that ends at the point. Reads the
+metrics.jsonl of run directories from `yokai train` and `python -m yokai.torch_train`
+alike.
+
+    scripts/curves.py --at 0.5e6,1e6,2e6 --window 2e5 rust=runs/a/seed-0,runs/a/seed-1 torch=runs/t/seed-0,...
+"""
+
+import argparse
+import json
+import math
+import pathlib
+
+
+def series(run: str):
+    """(env_steps, R, SEE) of every update of `run` whose rollout finished a game."""
+    out = []
+    for line in (pathlib.Path(run) / "metrics.jsonl").read_text().splitlines():
+        d = json.loads(line)
+        if d.get("games"):
+            out.append((d["env_steps"], d["games"]["reward"], d["games"]["successful_early_end"]))
+    return out
+
+
+def at(points, step: float, window: float, k: int) -> float:
+    inside = [p[k] for p in points if step - window < p[0] <= step]
+    if not inside:
+        raise SystemExit(f"no update between {step - window:,.0f} and {step:,.0f} env steps")
+    return sum(inside) / len(inside)
+
+
+def mean_se(xs):
+    m = sum(xs) / len(xs)
+    if len(xs) < 2:
+        return m, 0.0
+    var = sum((x - m) ** 2 for x in xs) / (len(xs) - 1)
+    return m, math.sqrt(var / len(xs))
+
+
+def main() -> None:
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--at", required=True, help="env-step points, comma-separated (1e6 allowed)")
+    p.add_argument("--window", type=float, default=2e5, help="env steps averaged before each point")
+    p.add_argument("groups", nargs="+", help="NAME=RUN[,RUN...]")
+    args = p.parse_args()
+    points = [float(x) for x in args.at.split(",")]
+    groups = [(g.split("=", 1)[0], [series(r) for r in g.split("=", 1)[1].split(",")]) for g in args.groups]
+    head = ["env steps"] + [f"{name} R" for name, _ in groups] + [f"{name} SEE %" for name, _ in groups]
+    print("| " + " | ".join(head) + " |")
+    print("|" + "---|" * len(head))
+    for step in points:
+        cells = []
+        for k, scale in ((1, 1.0), (2, 100.0)):
+            for _, runs in groups:
+                m, se = mean_se([scale * at(r, step, args.window, k) for r in runs])
+                cells.append(f"{m:.2f} ± {se:.2f}")
+        print(f"| {step:,.0f} | " + " | ".join(cells) + " |")
+
+
+if __name__ == "__main__":
+    main()
