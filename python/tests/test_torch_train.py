@@ -4,56 +4,44 @@ network and levers in PyTorch, and the one weight format both trainers' policies
 import json
 import subprocess
 import sys
+import tempfile
 
 import numpy as np
 import pytest
 
 import yokai
-from training import BINARY, train_tiny
+from training import BINARY, TINY, train_tiny
 
 torch = pytest.importorskip("torch")
 pytest.importorskip("safetensors")
 
-from yokai.torch_train import ActorCritic, Shapes, Trainer, load, save  # noqa: E402
+from yokai.torch_train import ActorCritic, Shapes, Trainer, load  # noqa: E402
 from yokai.torch_train.ppo import _toml  # noqa: E402
 
 # Every layer the PyTorch network has: pointer head with the pooled END input, the colour
 # layer (belief loss) and the central critic.
-EVERY_LAYER = """
-game = "9c-2p-perfect"
-[network]
-preset = "compact"
-hidden = 16
-head = "pointer"
-pointer_pool = true
-critic = "central"
-actor_gain = 1.0
-[ppo]
-num_envs = 8
-rollout_steps = 8
-minibatches = 2
-epochs = 1
-total_steps = 128
-belief_aux = 0.5
-end_lookahead = 0.5
-end_lookahead_form = "target"
-entropy_normalized = true
-"""
+EVERY_LAYER = TINY.replace(
+    "hidden = 16",
+    'hidden = 16\nhead = "pointer"\npointer_pool = true\ncritic = "central"\nactor_gain = 1.0',
+).replace(
+    "total_steps = 128",
+    'total_steps = 128\nbelief_aux = 0.5\nend_lookahead = 0.5\nend_lookahead_form = "target"\n'
+    "entropy_normalized = true",
+)
 
 
-def torch_network_of(config_text: str) -> ActorCritic:
-    env = yokai.TrainEnv(str(_write(config_text)), seed=0)
-    config = _toml(env.train_config)
-    return ActorCritic(config["network"], config["ppo"], Shapes.of(env))
-
-
-def _write(text):
-    import tempfile
-
+def _write(text: str) -> str:
+    """``text`` in a TOML file of its own (the trainer takes a preset name or a path)."""
     f = tempfile.NamedTemporaryFile("w", suffix=".toml", delete=False)
     f.write(text)
     f.close()
     return f.name
+
+
+def torch_network_of(config_text: str) -> ActorCritic:
+    env = yokai.TrainEnv(_write(config_text), seed=0)
+    config = _toml(env.train_config)
+    return ActorCritic(config["network"], config["ppo"], Shapes.of(env))
 
 
 def test_the_torch_network_computes_what_the_rust_network_computes(tmp_path):
