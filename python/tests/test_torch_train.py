@@ -180,3 +180,18 @@ def test_the_torch_trainer_learns_the_main_jobs_preset():
     print(f"torch quick: first 10 updates R {first:.2f}, updates 131-150 R {last:.2f}")
     assert last > first + 2.0, (first, last)
     assert last > -4.0 + 2.5, last
+
+
+@pytest.mark.parametrize("symmetries", ["none", "both"])
+def test_the_learner_replays_the_rollout_exactly_with_and_without_other_play(symmetries):
+    """The first minibatch, before its step, recomputes the rollout's log-probabilities
+    from the states stored at the rollout's start: equal up to float rounding, with and
+    without Other-Play's views. A learner that saw other views, states or actions than the
+    rollout did (a wrong row order, a lost episode reset, an action in the wrong frame)
+    shows here."""
+    algorithm = ["algorithm.name=op", f"algorithm.symmetries={symmetries}"] if symmetries != "none" else []
+    t = Trainer(_write(EVERY_LAYER), overrides=algorithm + ["ppo.rollout_steps=32"])
+    for _ in range(2):
+        stats = t.step()
+        assert stats["replay_error"] < 1e-4, stats
+        assert all(np.isfinite(stats[k]) for k in ("policy_loss", "value_loss", "grad_norm"))
