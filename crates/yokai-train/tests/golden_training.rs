@@ -12,6 +12,9 @@
 //! AVX-512 where the CPU has `avx512f`, FMA otherwise. The two sum in different orders, so
 //! each has its own files: `training-NAME.jsonl` for FMA (AVX2) CPUs, and
 //! `training-NAME.avx512.jsonl` for AVX-512 ones. Blessing writes the running CPU's kind.
+//! On an AVX-512 CPU the FMA files are written by a build whose `burn-flex` dependency
+//! (crates/yokai-train/Cargo.toml) leaves out the `x86-v4` feature, run with
+//! `YOKAI_GOLDEN_KERNELS=fma`, which names the FMA files whatever the CPU has.
 
 use serde_json::Value;
 use yokai_train::{MlpEncoder, TrainConfig, Trainer};
@@ -66,6 +69,9 @@ fn lines_of(name: &str) -> Vec<String> {
 /// The golden files' suffix for this CPU's matrix kernels (see the module's docs).
 #[cfg(target_arch = "x86_64")]
 fn kernels() -> &'static str {
+    if std::env::var("YOKAI_GOLDEN_KERNELS").as_deref() == Ok("fma") {
+        return "";
+    }
     if std::arch::is_x86_feature_detected!("avx512f") {
         ".avx512"
     } else {
