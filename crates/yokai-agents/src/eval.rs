@@ -111,6 +111,94 @@ pub fn cross_play(
     Ok(results)
 }
 
+/// The paper's cross-play J_XP for `players` > 2 seats: every set of `players` distinct
+/// policies, each over all its seatings (the permutations of the set), not pairs that fill
+/// the table with repeats. One result per set.
+#[derive(Clone, Debug)]
+pub struct SetResult {
+    /// The set's policies (indices, ascending).
+    pub members: Vec<usize>,
+    pub metrics: Metrics,
+}
+
+/// The sets of `players` distinct policies among `group` (ascending, in lexicographic
+/// order), at most `max_sets` of them: all when there are no more, else `max_sets` drawn
+/// without replacement from `seed` (then sorted), so that 12 seeds at 4 seats (495 sets)
+/// stay affordable. Empty when the group is smaller than the table.
+pub fn distinct_sets(
+    group: &[usize],
+    players: usize,
+    max_sets: usize,
+    seed: u64,
+) -> Vec<Vec<usize>> {
+    let mut members = group.to_vec();
+    members.sort_unstable();
+    members.dedup();
+    let mut all = Vec::new();
+    let mut current = Vec::with_capacity(players);
+    fn choose(
+        members: &[usize],
+        from: usize,
+        players: usize,
+        current: &mut Vec<usize>,
+        out: &mut Vec<Vec<usize>>,
+    ) {
+        if current.len() == players {
+            out.push(current.clone());
+            return;
+        }
+        for k in from..members.len() {
+            current.push(members[k]);
+            choose(members, k + 1, players, current, out);
+            current.pop();
+        }
+    }
+    if players > 0 {
+        choose(&members, 0, players, &mut current, &mut all);
+    }
+    if all.len() > max_sets {
+        // A seeded partial Fisher-Yates shuffle picks `max_sets` of them.
+        for k in 0..max_sets {
+            let pick = k + (derive_seed(seed, k as u64) % (all.len() - k) as u64) as usize;
+            all.swap(k, pick);
+        }
+        all.truncate(max_sets);
+        all.sort();
+    }
+    all
+}
+
+/// Each of `sets` (from [`distinct_sets`]) over all its seatings, `games` per set split
+/// evenly over them (rounded up), game i of every seating dealt from `seed`: the paper's
+/// J_XP, run in the current rayon pool. `progress` hears of every finished game.
+pub fn distinct_cross_play(
+    config: Config,
+    policies: &[&PolicyFactory<'_>],
+    sets: &[Vec<usize>],
+    games: u64,
+    seed: u64,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<Vec<SetResult>, PlayError> {
+    let mut results = Vec::new();
+    for members in sets {
+        let all = seatings(members, config.players());
+        let per = games.div_ceil(all.len() as u64);
+        let mut acc = MetricsAccumulator::default();
+        for seating in &all {
+            let seats: Vec<&PolicyFactory<'_>> = seating.iter().map(|&k| policies[k]).collect();
+            acc.merge(&play_group(config, &seats, per, seed, progress)?);
+        }
+        let metrics = acc
+            .metrics()
+            .expect("every seating plays at least one game");
+        results.push(SetResult {
+            members: members.clone(),
+            metrics,
+        });
+    }
+    Ok(results)
+}
+
 /// Every arrangement of `members` (indices into a list of policies) over the seats: all
 /// permutations of a group, with repetition when the group is smaller than the table
 /// (e.g. two policies at three seats: every seating that uses both).
@@ -188,5 +276,56 @@ mod tests {
         // Greedy never ends early; random ends most games early.
         assert_eq!(results[2].metrics.early_end, 0.0);
         assert!(results[0].metrics.early_end > 0.5);
+    }
+
+    /// Sets of distinct policies: every combination while there are few, a seeded sample
+    /// of `max_sets` (the same for the same seed) when there are many; none when the group
+    /// cannot fill the table.
+    #[test]
+    fn distinct_sets_are_the_combinations_or_a_seeded_sample_of_them() {
+        let all = distinct_sets(&[4, 1, 7, 9], 3, 20, 0);
+        assert_eq!(all, [[1, 4, 7], [1, 4, 9], [1, 7, 9], [4, 7, 9]]);
+        assert!(distinct_sets(&[0, 1], 3, 20, 0).is_empty());
+        let group: Vec<usize> = (0..12).collect();
+        assert_eq!(distinct_sets(&group, 4, 1000, 0).len(), 495);
+        let sample = distinct_sets(&group, 4, 20, 5);
+        assert_eq!(sample.len(), 20);
+        assert_eq!(sample, distinct_sets(&group, 4, 20, 5));
+        assert_ne!(sample, distinct_sets(&group, 4, 20, 6));
+        let mut unique = sample.clone();
+        unique.dedup();
+        assert_eq!(unique.len(), 20, "drawn without replacement");
+        assert!(sample
+            .iter()
+            .all(|s| s.len() == 4 && s.windows(2).all(|w| w[0] < w[1])));
+    }
+
+    /// A set of three distinct bots at three seats plays all 6 seatings, the games split
+    /// evenly, each seating the group `play_group` plays.
+    #[test]
+    fn distinct_cross_play_is_each_set_over_every_seating() {
+        let config = Config::resolve("9c-3p-perfect").unwrap();
+        let specs = [PolicySpec::Random, PolicySpec::Greedy, PolicySpec::Random];
+        let makers: Vec<Box<PolicyFactory<'_>>> = specs
+            .iter()
+            .map(|s| Box::new(move |seed| s.build(seed)) as Box<PolicyFactory<'_>>)
+            .collect();
+        let policies: Vec<&PolicyFactory<'_>> = makers.iter().map(|m| m.as_ref()).collect();
+        let played = AtomicU64::new(0);
+        let sets = distinct_sets(&[0, 1, 2], 3, 20, 0);
+        let results = distinct_cross_play(config, &policies, &sets, 30, 9, &|g| {
+            played.fetch_add(g, Ordering::Relaxed);
+        })
+        .unwrap();
+        assert_eq!(results.len(), 1);
+        assert_eq!(results[0].members, [0, 1, 2]);
+        assert_eq!(played.load(Ordering::Relaxed), 6 * 5);
+        let mut want = MetricsAccumulator::default();
+        for seating in seatings(&[0, 1, 2], 3) {
+            assert_eq!(seating.len(), 3);
+            let seats: Vec<&PolicyFactory<'_>> = seating.iter().map(|&k| policies[k]).collect();
+            want.merge(&play_group(config, &seats, 5, 9, &|_| {}).unwrap());
+        }
+        assert_eq!(results[0].metrics, want.metrics().unwrap());
     }
 }

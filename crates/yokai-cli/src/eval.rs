@@ -1,12 +1,15 @@
 //! `yokai eval`: self-play and cross-play of policies, averaged over seat permutations.
 
 use crate::plots;
-use crate::summary::{paper_rows, summarise, table_row, EvalSummary, GroupSummary, TABLE_HEAD};
+use crate::summary::{
+    paper_rows, summarise, table_row, DistinctSet, EvalSummary, GroupSummary, TABLE_HEAD,
+};
 use anyhow::{bail, Context};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
 use yokai_agents::eval::{
-    cross_play, cross_play_plan, seatings, PairResult, PolicyFactory, Progress,
+    cross_play, cross_play_plan, distinct_cross_play, distinct_sets, seatings, PairResult,
+    PolicyFactory, Progress,
 };
 use yokai_agents::Policy;
 use yokai_engine::{Config, Metrics};
@@ -40,6 +43,11 @@ pub struct Args {
     /// Also save this many games of every pair as replay files in OUT/replays.
     #[arg(long, default_value_t = 0, requires = "out")]
     replays: u64,
+    /// Games of more than 2 seats: the most sets of n distinct seeds per method that play
+    /// the paper's cross-play J_XP, each over every seating (all sets when there are no
+    /// more; else a sample drawn from --seed). Pairs of seeds are played as well.
+    #[arg(long, default_value_t = 20)]
+    xp_sets: usize,
     /// How trained policies choose END: `file` (as each one's training config says,
     /// `act.end_threshold`), `draw` (like any other action), or a probability P in (0, 1)
     /// (END wherever the network gives it more than P, else never). Bots keep their own
@@ -125,7 +133,15 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     };
     let names: Vec<String> = entries.iter().map(PolicySource::name).collect();
     let results = evaluate(&config, &entries, args.games, args.seed, args.threads)?;
-    let groups = summarise_groups(&entries, &names, &results);
+    let mut groups = summarise_groups(&entries, &names, &results);
+    let play = Play {
+        config: &config,
+        entries: &entries,
+        games: args.games,
+        seed: args.seed,
+        threads: args.threads,
+    };
+    play.distinct_cross_play(&mut groups, args.xp_sets)?;
     match args.out {
         None => print!(
             "{}",
@@ -184,6 +200,87 @@ pub fn save_replays(
         }
     }
     Ok(())
+}
+
+/// What an evaluation plays with: the game, the policies, games per entry, base seed and
+/// threads.
+pub struct Play<'a> {
+    pub config: &'a Config,
+    pub entries: &'a [PolicySource],
+    pub games: u64,
+    pub seed: u64,
+    pub threads: Option<usize>,
+}
+
+impl Play<'_> {
+    /// Games of more than 2 seats: for every method (`groups`, from [`summarise_groups`])
+    /// with at least as many seeds as seats, up to `max_sets` sets of n distinct seeds,
+    /// `games` games each over every seating, recorded in the method's summary. Nothing
+    /// for 2 seats, where the pairs are the sets.
+    pub fn distinct_cross_play(
+        &self,
+        groups: &mut [GroupSummary],
+        max_sets: usize,
+    ) -> anyhow::Result<()> {
+        let players = self.config.players();
+        if players <= 2 {
+            return Ok(());
+        }
+        let methods = groups_of(self.entries);
+        let plans: Vec<Vec<Vec<usize>>> = methods
+            .iter()
+            .map(|(_, members)| distinct_sets(members, players, max_sets, self.seed))
+            .collect();
+        let total: u64 = plans
+            .iter()
+            .flatten()
+            .map(|set| {
+                let n = seatings(set, players).len() as u64;
+                n * self.games.div_ceil(n)
+            })
+            .sum();
+        if total == 0 {
+            return Ok(());
+        }
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(self.threads.unwrap_or(0))
+            .build()
+            .context("could not start threads")?;
+        let bar = ProgressBar::new(total).with_style(
+            ProgressStyle::with_template(
+                "{msg} [{bar:30}] {pos}/{len} games ({per_sec}, eta {eta})",
+            )
+            .expect("valid template")
+            .progress_chars("=> "),
+        );
+        bar.set_message(format!("sets of {players} distinct seeds"));
+        let factories: Vec<Box<PolicyFactory<'_>>> = self
+            .entries
+            .iter()
+            .map(|entry| Box::new(move |seed| entry.build(seed)) as Box<PolicyFactory<'_>>)
+            .collect();
+        let policies: Vec<&PolicyFactory<'_>> = factories.iter().map(|f| f.as_ref()).collect();
+        let names: Vec<String> = self.entries.iter().map(PolicySource::name).collect();
+        for ((method, _), sets) in methods.iter().zip(&plans) {
+            let played = pool.install(|| {
+                distinct_cross_play(*self.config, &policies, sets, self.games, self.seed, &|g| {
+                    bar.inc(g)
+                })
+            })?;
+            let sets = played
+                .into_iter()
+                .map(|r| DistinctSet {
+                    seeds: r.members.iter().map(|&i| names[i].clone()).collect(),
+                    metrics: r.metrics,
+                })
+                .collect();
+            if let Some(g) = groups.iter_mut().find(|g| &g.name == method) {
+                g.set_distinct(sets);
+            }
+        }
+        bar.finish_and_clear();
+        Ok(())
+    }
 }
 
 /// Every pair of `entries` (each with itself included) over all seatings that use both.
@@ -291,8 +388,14 @@ pub fn report(
         "# Evaluation on {config}\n\n{games} games per pair, averaged over seat permutations.\n\n"
     );
     if !groups.is_empty() {
-        out += "## Paper table\n\nMean ± standard error over seeds (SP: each seed with itself; XP: every pair of \
-                different seeds of a method). Shares in %.\n\n";
+        out += if groups.iter().any(|g| g.xp_distinct.is_some()) {
+            "## Paper table\n\nMean ± standard error over seeds (SP: each seed with itself) and over sets of \
+             distinct seeds (XP: every set of as many different seeds of a method as the game has seats, \
+             over every seating: the paper's J_XP). Shares in %.\n\n"
+        } else {
+            "## Paper table\n\nMean ± standard error over seeds (SP: each seed with itself; XP: every pair of \
+             different seeds of a method). Shares in %.\n\n"
+        };
         out += TABLE_HEAD;
         for g in groups {
             out += &table_row(g);
@@ -316,6 +419,16 @@ pub fn report(
                 names[c.col],
                 row_of(&c.metrics)
             );
+        }
+        for g in groups.iter().filter(|g| !g.xp_sets.is_empty()) {
+            out += &format!(
+                "\n## Cross-play of {} distinct seeds: {}\n\n| set | R | win % | SEE % | EE % | WEE % | LEN |\n|---|---|---|---|---|---|---|\n",
+                config.players(),
+                g.name
+            );
+            for set in &g.xp_sets {
+                out += &format!("| {} | {} |\n", set.seeds.join(" + "), row_of(&set.metrics));
+            }
         }
         out += "\n## Matrix of R\n\n|  |";
         for n in names {

@@ -67,7 +67,33 @@ pub struct GroupSummary {
     pub name: String,
     pub seeds: Vec<String>,
     pub sp: Side,
+    /// Cross-play of every pair of different seeds (filling a table of more than 2 seats
+    /// with repeats).
     pub xp: Side,
+    /// Games of more than 2 seats: cross-play of sets of n distinct seeds, each over every
+    /// seating (the paper's J_XP), mean ± SE over the sets. The paper table shows it in
+    /// place of the pairs' XP.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub xp_distinct: Option<Side>,
+    /// The sets behind `xp_distinct`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub xp_sets: Vec<DistinctSet>,
+}
+
+/// One set of n distinct seeds of a method in cross-play, and its games' metrics.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DistinctSet {
+    pub seeds: Vec<String>,
+    pub metrics: Metrics,
+}
+
+impl GroupSummary {
+    /// Record the sets of n distinct seeds this method played (`xp_sets`, `xp_distinct`).
+    pub fn set_distinct(&mut self, sets: Vec<DistinctSet>) {
+        let metrics: Vec<&Metrics> = sets.iter().map(|s| &s.metrics).collect();
+        self.xp_distinct = (!sets.is_empty()).then(|| Side::of(&metrics));
+        self.xp_sets = sets;
+    }
 }
 
 /// What `summary.json` of an evaluation holds, for `yokai compare`.
@@ -102,6 +128,8 @@ pub fn summarise(
         seeds: members.iter().map(|&i| names[i].clone()).collect(),
         sp: Side::of(&sp),
         xp: Side::of(&xp),
+        xp_distinct: None,
+        xp_sets: Vec::new(),
     }
 }
 
@@ -119,8 +147,10 @@ fn cell(v: Option<MeanSe>, digits: usize) -> String {
 pub const TABLE_HEAD: &str = "| method | seeds | SP R | SP SEE % | SP EE % | SP WEE % | SP LEN | XP R | XP SEE % | XP EE % | XP WEE % | XP LEN |\n\
                               |---|---|---|---|---|---|---|---|---|---|---|---|\n";
 
-/// One Markdown row in the paper's layout.
+/// One Markdown row in the paper's layout; XP is the sets of n distinct seeds where a game
+/// of more than 2 seats has them (the paper's J_XP), else the pairs.
 pub fn table_row(g: &GroupSummary) -> String {
+    let xp = g.xp_distinct.as_ref().unwrap_or(&g.xp);
     format!(
         "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
         g.name,
@@ -130,11 +160,11 @@ pub fn table_row(g: &GroupSummary) -> String {
         cell(g.sp.ee, 1),
         cell(g.sp.wee, 1),
         cell(g.sp.length, 1),
-        cell(g.xp.reward, 2),
-        cell(g.xp.see, 1),
-        cell(g.xp.ee, 1),
-        cell(g.xp.wee, 1),
-        cell(g.xp.length, 1),
+        cell(xp.reward, 2),
+        cell(xp.see, 1),
+        cell(xp.ee, 1),
+        cell(xp.wee, 1),
+        cell(xp.length, 1),
     )
 }
 

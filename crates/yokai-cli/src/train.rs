@@ -1,6 +1,6 @@
 //! `yokai train`: train seeds of a config, then evaluate them against each other.
 
-use crate::eval::{evaluate, save_replays, summarise_groups, write_outputs};
+use crate::eval::{evaluate, save_replays, summarise_groups, write_outputs, Play};
 use anyhow::{anyhow, Context};
 use indicatif::{MultiProgress, ProgressBar, ProgressStyle};
 use std::collections::VecDeque;
@@ -215,7 +215,15 @@ fn train_and_evaluate(
         args.eval_games
     );
     let results = evaluate(&game, &entries, args.eval_games, 0, args.threads)?;
-    let groups = summarise_groups(&entries, &names, &results);
+    let mut groups = summarise_groups(&entries, &names, &results);
+    let play = Play {
+        config: &game,
+        entries: &entries,
+        games: args.eval_games,
+        seed: 0,
+        threads: args.threads,
+    };
+    play.distinct_cross_play(&mut groups, 20)?;
     let eval_dir = out.join("eval");
     let text = write_outputs(
         &eval_dir,

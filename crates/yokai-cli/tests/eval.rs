@@ -165,3 +165,66 @@ fn pretrained_agents_play_by_name_and_unknown_ones_list_the_built_in() {
         "{err}"
     );
 }
+
+/// With more than 2 seats, a method's cross-play is also the paper's J_XP: sets of as many
+/// distinct seeds as seats, each over every seating. Three tiny 3-player seeds make one
+/// set; the paper table's XP is that set's games, the pairs stay in the cross-play table,
+/// and summary.json holds both.
+#[test]
+fn three_seats_play_sets_of_three_distinct_seeds_as_the_papers_cross_play() {
+    let tmp = tempfile::Builder::new()
+        .prefix("yokai-eval-3p-")
+        .tempdir()
+        .unwrap();
+    let config = tmp.path().join("tiny-3p.toml");
+    std::fs::write(
+        &config,
+        "game = \"9c-3p-perfect\"\n[network]\npreset = \"compact\"\nhidden = 8\n[ppo]\n\
+         num_envs = 4\nrollout_steps = 8\nminibatches = 2\nepochs = 1\ntotal_steps = 32\n",
+    )
+    .unwrap();
+    let runs = tmp.path().join("tiny");
+    let (config, runs) = (config.to_str().unwrap(), runs.to_str().unwrap());
+    yokai_ok(&[
+        "train",
+        config,
+        "--seeds",
+        "0..3",
+        "--out",
+        runs,
+        "--eval-games",
+        "0",
+    ]);
+    let out = tmp.path().join("eval");
+    let text = String::from_utf8(yokai_ok(&[
+        "eval",
+        runs,
+        "--games",
+        "60",
+        "--out",
+        out.to_str().unwrap(),
+    ]))
+    .unwrap();
+    assert!(text.contains("the paper's J_XP"), "{text}");
+    let sets: Vec<&str> = text
+        .lines()
+        .skip_while(|l| !l.starts_with("## Cross-play of 3 distinct seeds"))
+        .filter(|l| l.starts_with("| ") && l.contains(" + "))
+        .collect();
+    assert_eq!(sets.len(), 1, "{text}");
+    assert!(
+        sets[0].contains("seed-0 + ") && sets[0].contains("seed-2"),
+        "{}",
+        sets[0]
+    );
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let group = &summary["groups"][0];
+    assert_eq!(group["xp_distinct"]["entries"], 1);
+    assert_eq!(group["xp"]["entries"], 3, "the three pairs");
+    // 60 games over the set's 6 seatings.
+    assert_eq!(group["xp_sets"][0]["metrics"]["games"], 60);
+    let set_r = group["xp_sets"][0]["metrics"]["reward"].as_f64().unwrap();
+    let table_r = group["xp_distinct"]["reward"]["mean"].as_f64().unwrap();
+    assert_eq!(set_r, table_r);
+}
