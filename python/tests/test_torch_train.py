@@ -19,10 +19,10 @@ from yokai.torch_train import ActorCritic, Shapes, Trainer, load  # noqa: E402
 from yokai.torch_train.ppo import _toml  # noqa: E402
 
 # Every layer the PyTorch network has: pointer head with the pooled END input, the colour
-# layer (belief loss) and the central critic.
+# layer (belief loss), the central critic and a hidden layer before the heads (+1HL).
 EVERY_LAYER = TINY.replace(
     "hidden = 16",
-    'hidden = 16\nhead = "pointer"\npointer_pool = true\ncritic = "central"\nactor_gain = 1.0',
+    'hidden = 16\nhead = "pointer"\npointer_pool = true\ncritic = "central"\nactor_gain = 1.0\nhead_layers = 1',
 ).replace(
     "total_steps = 128",
     'total_steps = 128\nbelief_aux = 0.5\nend_lookahead = 0.5\nend_lookahead_form = "target"\n'

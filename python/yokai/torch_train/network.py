@@ -155,6 +155,8 @@ class ActorCritic(nn.Module):
         self.encoder = MlpEncoder(s, h)
         self.embed = linear(h, h, math.sqrt(2))
         self.memory = GruCell(h, h)
+        # network.head_layers: the paper's +1HL / +2HL between the memory and the heads.
+        self.head_layers = nn.ModuleList(linear(h, h, math.sqrt(2)) for _ in range(network.get("head_layers", 0)))
         gain = network["actor_gain"]
         if network["head"] == "pointer":
             self.actor = None
@@ -184,9 +186,16 @@ class ActorCritic(nn.Module):
             states.append(h)
         return torch.stack(states, 1).reshape(b * t, -1)
 
+    def head_input(self, states: torch.Tensor) -> torch.Tensor:
+        """What the heads read of memory states: through the ``head_layers``."""
+        for layer in self.head_layers:
+            states = F.relu(layer(states))
+        return states
+
     def heads(self, obs: torch.Tensor, states: torch.Tensor):
         """Action logits ``[B, N_a]`` and colour logits (or ``None``) of rows' observations
         (read by the pointer head) and states."""
+        states = self.head_input(states)
         if self.pointer is not None:
             return self.pointer(obs, states)
         return self.actor(states), None
@@ -194,7 +203,7 @@ class ActorCritic(nn.Module):
     def values(self, states: torch.Tensor, truth_one_hot: torch.Tensor | None) -> torch.Tensor:
         """State values ``[B]``; a central critic also reads every card's true colour
         (``[B, Y·C]`` one-hot)."""
-        x = states
+        x = self.head_input(states)
         if self.central is not None:
             x = F.relu(self.central(torch.cat([x, truth_one_hot], 1)))
         return self.critic(x).squeeze(1)

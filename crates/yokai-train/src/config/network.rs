@@ -29,6 +29,9 @@ pub struct NetworkConfig {
     pub pointer_pool: bool,
     /// Width of the embedding layer and of the GRU state (256 in the paper).
     pub hidden: usize,
+    /// Hidden layers (width `hidden`, ReLU) between the memory and the actor and critic
+    /// heads: 0 in the paper's network, 1 and 2 its "+1HL" and "+2HL" ablations (Table 5).
+    pub head_layers: usize,
     /// Conv filters per layer (paper preset only; 64 in the paper).
     pub filters: usize,
     /// Orthogonal-init gain of the actor head (small, so the first policy is near uniform).
@@ -55,6 +58,7 @@ impl Default for NetworkConfig {
             head: ActionHead::Dense,
             pointer_pool: false,
             hidden: 256,
+            head_layers: 0,
             filters: 64,
             actor_gain: 0.01,
             critic_gain: 1.0,
@@ -112,6 +116,12 @@ impl NetworkConfig {
             return bad(
                 "network.trxl_memory / network.trxl_gate_bias",
                 "need at least 1 remembered step and a finite gate bias",
+            );
+        }
+        if n.head_layers > 4 {
+            return bad(
+                "network.head_layers",
+                "must be between 0 and 4 (the paper tries 0, 1 and 2)",
             );
         }
         if n.pointer_pool && n.head != ActionHead::Pointer {

@@ -278,6 +278,9 @@ pub struct ActorCritic<E: Encoder, M: Recurrent> {
     /// The recurrent memory (`network.memory`: a GRU or a Transformer-XL). Files written
     /// before 2026-11-25 name its tensors `gru.…`; [`crate::artifact`] reads them too.
     memory: M,
+    /// `network.head_layers` layers (width of the memory's output, ReLU) between the memory
+    /// and every head: the paper's +1HL / +2HL ablations. Empty in every other network.
+    head_layers: Vec<Linear>,
     actor: Option<Linear>,
     pointer: Option<PointerHead>,
     central: Option<Linear>,
@@ -337,7 +340,13 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
         let embed = init.linear(encoder.output_size(), h, sqrt2, device);
         let memory = M::build(h, &config.network, &mut init, device);
         let out = memory.output_size();
+        // Drawn only when asked for, so that every other network's weights stay the same
+        // function of the seed.
+        let head_layers = (0..config.network.head_layers)
+            .map(|_| init.linear(out, out, sqrt2, device))
+            .collect();
         ActorCritic {
+            head_layers,
             embed,
             encoder,
             actor: (config.network.head == ActionHead::Dense)
@@ -394,7 +403,7 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
     /// Action logits `[rows, N_a]` from the rows' observations `[rows, L]` (read by the
     /// pointer head only) and the GRU states after them.
     pub fn policy_logits(&self, obs: Tensor<2>, states: Tensor<2>) -> Tensor<2> {
-        let states = self.memory.output(states);
+        let states = self.head_input(states);
         match (&self.actor, &self.pointer) {
             (Some(actor), _) => actor.forward(states),
             (None, Some(pointer)) => pointer.forward(obs, states),
@@ -548,9 +557,19 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
         states: Tensor<2>,
     ) -> (Tensor<2>, Option<Tensor<3>>) {
         match &self.pointer {
-            Some(pointer) => pointer.forward_with_colours(obs, self.memory.output(states)),
+            Some(pointer) => pointer.forward_with_colours(obs, self.head_input(states)),
             None => (self.policy_logits(obs, states), None),
         }
+    }
+
+    /// What the heads read of memory states `[rows, H]`: the memory's output through the
+    /// `network.head_layers` layers.
+    fn head_input(&self, states: Tensor<2>) -> Tensor<2> {
+        self.head_layers
+            .iter()
+            .fold(self.memory.output(states), |x, layer| {
+                relu(layer.forward(x))
+            })
     }
 
     /// Whether the actor reads the observations (the pointer head) besides the states.
@@ -571,7 +590,7 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
     /// # Panics
     /// With a central critic and no `truth`: the trainer always passes it.
     pub fn values(&self, states: Tensor<2>, truth: Option<Tensor<2>>) -> Tensor<1> {
-        let x = self.memory.output(states);
+        let x = self.head_input(states);
         let x = match &self.central {
             None => x,
             Some(central) => {
@@ -621,5 +640,39 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
         }
         let all: Tensor<3> = Tensor::stack(states, 1);
         all.reshape([b * t, self.hidden])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::tensor::parameters;
+
+    fn network(head_layers: usize) -> ActorCritic<MlpEncoder, GruCell> {
+        let text =
+            format!("[network]\npreset = \"compact\"\nhidden = 16\nhead_layers = {head_layers}\n");
+        let config = TrainConfig::from_toml_str(&text, "t").unwrap();
+        let game = config.game_config().unwrap();
+        ActorCritic::new(&config, &game, 3, &Device::flex())
+    }
+
+    /// `network.head_layers` adds that many 16 × 16 layers before the heads (the paper's
+    /// +1HL / +2HL); more than 4 is refused. What they compute is checked against the
+    /// PyTorch network in python/tests/test_torch_train.py.
+    #[test]
+    fn head_layers_sit_between_the_memory_and_the_heads() {
+        let sizes: Vec<usize> = (0..3).map(|n| parameters(&network(n)).len()).collect();
+        assert_eq!(sizes[1] - sizes[0], 16 * 16 + 16);
+        assert_eq!(sizes[2] - sizes[0], 2 * (16 * 16 + 16));
+        // Drawn after the memory: every layer before them keeps its weights.
+        let (plain, deeper) = (
+            parameters(&network(0).memory),
+            parameters(&network(2).memory),
+        );
+        assert_eq!(plain, deeper);
+        let e = TrainConfig::from_toml_str("[network]\nhead_layers = 5\n", "t")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("network.head_layers"), "{e}");
     }
 }
