@@ -51,6 +51,21 @@ def test_seeds_and_sweep_files_parse(tmp_path):
     spec.write_text('[[row]]\nconfig = "quick"\nseed = "1"\n')
     with pytest.raises(ValueError, match="row 1 needs config"):
         sweep.rows_from_args(args)
+    # A grid of a config field: rows of one config with overrides, each in its own directory.
+    spec.write_text('out = "g"\n[[row]]\nconfig = "op-9c-2p"\nset = ["ppo.entropy_coef=0.01"]\n'
+                    '[[row]]\nconfig = "op-9c-2p"\n[[row]]\nconfig = "op-9c-2p"\nset = ["ppo.lr=1e-3"]\nname = "fast"\n')
+    rows = sweep.rows_from_args(args)
+    assert [(r.out, r.set) for r in rows] == [
+        (pathlib.Path("g/op-9c-2p-entropy_coef-0.01"), ("ppo.entropy_coef=0.01",)),
+        (pathlib.Path("g/op-9c-2p"), ()),
+        (pathlib.Path("g/fast"), ("ppo.lr=1e-3",)),
+    ]
+    spec.write_text('[[row]]\nconfig = "quick"\n[[row]]\nconfig = "quick"\n')
+    with pytest.raises(ValueError, match="same directory"):
+        sweep.rows_from_args(args)
+    spec.write_text('[[row]]\nconfig = "quick"\nset = "ppo.lr=1"\n')
+    with pytest.raises(ValueError, match="FIELD=VALUE"):
+        sweep.rows_from_args(args)
 
 
 def test_progress_lines_read_the_runs_files(tmp_path):
@@ -137,3 +152,19 @@ def test_a_killed_seed_resumes_from_its_checkpoint_and_the_sweep_evaluates(tmp_p
     stdout, stderr = again.communicate(timeout=600)
     assert again.returncode == 0, stderr
     assert stdout.count("finished earlier") == 3, stdout
+
+
+def test_a_rows_overrides_reach_the_trainer_and_a_resume_keeps_them(tmp_path):
+    """``set`` of a sweep row becomes ``yokai train --set``: the run's saved config holds
+    it. A finished seed is skipped on a second call."""
+    if not BINARY.exists():
+        pytest.skip("needs the yokai binary: scripts/test.sh builds it before pytest")
+    config = tmp_path / "tiny.toml"
+    config.write_text(TINY)
+    out = tmp_path / "grid"
+    done = sweep.train_seed(str(BINARY), str(config), 0, str(out), 1, "cpu", ("ppo.lr=0.0125",))
+    assert done["status"] == "trained", done
+    saved = (out / "seed-0" / "config.toml").read_text()
+    assert re.search(r"^lr = 0\.0125$", saved, re.M), saved
+    again = sweep.train_seed(str(BINARY), str(config), 0, str(out), 1, "cpu", ("ppo.lr=0.0125",))
+    assert again["status"] == "finished earlier"

@@ -59,12 +59,14 @@ ATTEMPTS = "sweep.log"
 
 @dataclass(frozen=True)
 class Row:
-    """One row of a sweep: a training config (a preset name or a TOML file) over seeds,
-    into ``out`` (one ``seed-N`` run per seed)."""
+    """One row of a sweep: a training config (a preset name or a TOML file) with
+    ``FIELD=VALUE`` overrides (``yokai train --set``) over seeds, into ``out`` (one
+    ``seed-N`` run per seed)."""
 
     config: str
     seeds: tuple
     out: pathlib.Path
+    set: tuple = ()
 
 
 def parse_seeds(text: str) -> tuple:
@@ -79,6 +81,16 @@ def parse_seeds(text: str) -> tuple:
 
 def config_name(config: str) -> str:
     return pathlib.Path(config).stem if config.endswith(".toml") else config
+
+
+def row_name(config: str, overrides) -> str:
+    """A row's directory name: the config's, then each override's last key and value
+    (``op-9c-2p`` with ``ppo.entropy_coef=0.01``: ``op-9c-2p-entropy_coef-0.01``)."""
+    parts = [config_name(config)]
+    for o in overrides:
+        field, value = o.split("=", 1)
+        parts.append(f"{field.strip().split('.')[-1]}-{value.strip().strip(chr(34))}")
+    return "-".join(parts)
 
 
 def find_yokai(given: str | None = None) -> str:
@@ -102,7 +114,8 @@ def _die_with_parent():  # pragma: no cover - runs in the child between fork and
         pass
 
 
-def train_seed(yokai: str, config: str, seed: int, out: str, threads: int, device: str = "cpu") -> dict:
+def train_seed(yokai: str, config: str, seed: int, out: str, threads: int, device: str = "cpu",
+               overrides: tuple = ()) -> dict:
     """Train (or resume, or skip) one seed; the body of a Ray task. Returns a summary."""
     run = pathlib.Path(out) / f"seed-{seed}"
     if (run / DONE).exists():
@@ -113,6 +126,8 @@ def train_seed(yokai: str, config: str, seed: int, out: str, threads: int, devic
     (run / ".sweep-worker").write_text(str(os.getpid()))
     cmd = [yokai, "train", config, "--seeds", str(seed), "--out", out, "--eval-games", "0",
            "--threads", str(threads), "--device", device] + (["--resume"] if resume else [])
+    if not resume:  # a resumed run keeps its checkpoint's config
+        cmd += [arg for o in overrides for arg in ("--set", o)]
     proc = subprocess.run(cmd, capture_output=True, text=True,
                           preexec_fn=_die_with_parent if sys.platform.startswith("linux") else None)
     if proc.returncode != 0:
@@ -203,7 +218,8 @@ def run_sweep(rows, address=None, cpus_per_seed=1, gpus_per_seed=0.0, max_retrie
     for row in rows:
         row.out.mkdir(parents=True, exist_ok=True)
         for seed in row.seeds:
-            refs[task.remote(yokai, row.config, seed, str(row.out), max(1, int(cpus_per_seed)), device)] = (row, seed)
+            refs[task.remote(yokai, row.config, seed, str(row.out), max(1, int(cpus_per_seed)), device,
+                             row.set)] = (row, seed)
     started, results, pending = {}, [], list(refs)
     next_report = time.time()
     while pending:
@@ -238,10 +254,17 @@ def rows_from_args(args) -> list:
         base = pathlib.Path(spec.get("out", out or "runs"))
         rows = []
         for i, r in enumerate(spec.get("row", [])):
-            if "config" not in r or set(r) - {"config", "seeds", "out"}:
-                raise ValueError(f"{args.sweep}: row {i + 1} needs config (and may have seeds, out)")
+            if "config" not in r or set(r) - {"config", "seeds", "out", "set", "name"}:
+                raise ValueError(f"{args.sweep}: row {i + 1} needs config (and may have seeds, out, set, name)")
+            overrides = r.get("set", [])
+            if not (isinstance(overrides, list) and all(isinstance(o, str) and "=" in o for o in overrides)):
+                raise ValueError(f"{args.sweep}: row {i + 1}: set must be a list of \"FIELD=VALUE\" strings")
             seeds = parse_seeds(r.get("seeds", spec.get("seeds", args.seeds)))
-            rows.append(Row(r["config"], seeds, pathlib.Path(r.get("out", base / config_name(r["config"])))))
+            name = r.get("name") or row_name(r["config"], overrides)
+            rows.append(Row(r["config"], seeds, pathlib.Path(r.get("out", base / name)), tuple(overrides)))
+        outs = [row.out for row in rows]
+        if len(set(outs)) != len(outs):
+            raise ValueError(f"{args.sweep}: two rows write to the same directory; give them a name or out")
         if not rows:
             raise ValueError(f"{args.sweep}: no [[row]]")
         return rows
