@@ -242,23 +242,10 @@ impl Play<'_> {
         if total == 0 {
             return Ok(());
         }
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(self.threads.unwrap_or(0))
-            .build()
-            .context("could not start threads")?;
-        let bar = ProgressBar::new(total).with_style(
-            ProgressStyle::with_template(
-                "{msg} [{bar:30}] {pos}/{len} games ({per_sec}, eta {eta})",
-            )
-            .expect("valid template")
-            .progress_chars("=> "),
-        );
+        let pool = worker_pool(self.threads)?;
+        let bar = games_bar(total);
         bar.set_message(format!("sets of {players} distinct seeds"));
-        let factories: Vec<Box<PolicyFactory<'_>>> = self
-            .entries
-            .iter()
-            .map(|entry| Box::new(move |seed| entry.build(seed)) as Box<PolicyFactory<'_>>)
-            .collect();
+        let factories = factories(self.entries);
         let policies: Vec<&PolicyFactory<'_>> = factories.iter().map(|f| f.as_ref()).collect();
         let names: Vec<String> = self.entries.iter().map(PolicySource::name).collect();
         for ((method, _), sets) in methods.iter().zip(&plans) {
@@ -294,21 +281,11 @@ pub fn evaluate(
     for e in entries {
         e.check_game(config)?;
     }
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads.unwrap_or(0))
-        .build()
-        .context("could not start threads")?;
+    let pool = worker_pool(threads)?;
     let plan = cross_play_plan(entries.len(), config.players(), games);
     let total: u64 = plan.iter().map(|(_, _, s, g)| s.len() as u64 * g).sum();
-    let bar = ProgressBar::new(total).with_style(
-        ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len} games ({per_sec}, eta {eta})")
-            .expect("valid template")
-            .progress_chars("=> "),
-    );
-    let factories: Vec<Box<PolicyFactory<'_>>> = entries
-        .iter()
-        .map(|entry| Box::new(move |seed| entry.build(seed)) as Box<PolicyFactory<'_>>)
-        .collect();
+    let bar = games_bar(total);
+    let factories = factories(entries);
     let policies: Vec<&PolicyFactory<'_>> = factories.iter().map(|f| f.as_ref()).collect();
     let names: Vec<String> = entries.iter().map(PolicySource::name).collect();
     let results = pool.install(|| {
@@ -321,6 +298,31 @@ pub fn evaluate(
     })?;
     bar.finish_and_clear();
     Ok(results)
+}
+
+/// The pool the games run on: `threads` workers, or one per core.
+fn worker_pool(threads: Option<usize>) -> anyhow::Result<rayon::ThreadPool> {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads.unwrap_or(0))
+        .build()
+        .context("could not start threads")
+}
+
+/// One seat-maker per entry, for the library's cross-play loops.
+fn factories(entries: &[PolicySource]) -> Vec<Box<PolicyFactory<'_>>> {
+    entries
+        .iter()
+        .map(|entry| Box::new(move |seed| entry.build(seed)) as Box<PolicyFactory<'_>>)
+        .collect()
+}
+
+/// A progress bar over `total` games, its message naming what plays.
+fn games_bar(total: u64) -> ProgressBar {
+    ProgressBar::new(total).with_style(
+        ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len} games ({per_sec}, eta {eta})")
+            .expect("valid template")
+            .progress_chars("=> "),
+    )
 }
 
 fn pct(x: f64) -> String {
