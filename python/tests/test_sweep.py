@@ -162,9 +162,17 @@ def test_a_rows_overrides_reach_the_trainer_and_a_resume_keeps_them(tmp_path):
     config = tmp_path / "tiny.toml"
     config.write_text(TINY)
     out = tmp_path / "grid"
-    done = sweep.train_seed(str(BINARY), str(config), 0, str(out), 1, "cpu", ("ppo.lr=0.0125",))
-    assert done["status"] == "trained", done
+
+    def train_seed():
+        # In a fresh interpreter: train_seed forks (PR_SET_PDEATHSIG), which is unsafe in
+        # this one once another test has started JAX's threads.
+        code = (f"import json; from yokai import sweep; print(json.dumps(sweep.train_seed("
+                f"{str(BINARY)!r}, {str(config)!r}, 0, {str(out)!r}, 1, 'cpu', ('ppo.lr=0.0125',))))")
+        proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+        assert proc.returncode == 0, proc.stderr
+        return json.loads(proc.stdout)
+
+    assert train_seed()["status"] == "trained"
     saved = (out / "seed-0" / "config.toml").read_text()
     assert re.search(r"^lr = 0\.0125$", saved, re.M), saved
-    again = sweep.train_seed(str(BINARY), str(config), 0, str(out), 1, "cpu", ("ppo.lr=0.0125",))
-    assert again["status"] == "finished earlier"
+    assert train_seed()["status"] == "finished earlier"
