@@ -3,7 +3,8 @@
 point, the mean ± SE over a group's seeds of its training games' R and SEE, each seed's
 value the mean over the updates in the window that ends at the point. Reads the
 metrics.jsonl of run directories from `yokai train` and `python -m yokai.torch_train`
-alike.
+alike. Then each group's speed: per seed the mean env steps/s of its updates after the
+first 10 (start-up), and their sum (the machine's, for seeds run side by side).
 
     scripts/curves.py --at 0.5e6,1e6,2e6 --window 2e5 rust=runs/a/seed-0,runs/a/seed-1 torch=runs/t/seed-0,...
 """
@@ -22,6 +23,14 @@ def series(run: str):
         if d.get("games"):
             out.append((d["env_steps"], d["games"]["reward"], d["games"]["successful_early_end"]))
     return out
+
+
+def speed(run: str) -> float:
+    """Mean env steps/s of `run`'s updates after the first 10."""
+    lines = [json.loads(l) for l in (pathlib.Path(run) / "metrics.jsonl").read_text().splitlines()][10:]
+    if not lines:
+        raise SystemExit(f"{run}: no update after the 10th")
+    return sum(d["sps"] for d in lines) / len(lines)
 
 
 def at(points, step: float, window: float, k: int) -> float:
@@ -57,6 +66,13 @@ def main() -> None:
                 m, se = mean_se([scale * at(r, step, args.window, k) for r in runs])
                 cells.append(f"{m:.2f} ± {se:.2f}")
         print(f"| {step:,.0f} | " + " | ".join(cells) + " |")
+    print()
+    print("| group | env steps/s per seed (updates after the 10th) | together |")
+    print("|---|---|---|")
+    for g in args.groups:
+        name, runs = g.split("=", 1)
+        speeds = [speed(r) for r in runs.split(",")]
+        print(f"| {name} | {', '.join(f'{x:,.0f}' for x in speeds)} | {sum(speeds):,.0f} |")
 
 
 if __name__ == "__main__":
