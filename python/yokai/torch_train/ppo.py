@@ -113,8 +113,9 @@ class Trainer:
         self.state = torch.zeros(self.rows, self.model.hidden_size, device=self.device)
         self.view = self.env.observe()
         self.update = 0
-        per = self.c["num_envs"] * self.c["rollout_steps"]
-        self.updates = max(1, -(-self.c["total_steps"] // per))
+        #: Env steps per update (one step of every game per rollout step).
+        self.per_update = self.c["num_envs"] * self.c["rollout_steps"]
+        self.updates = max(1, -(-self.c["total_steps"] // self.per_update))
 
     # -- phases -------------------------------------------------------------------------
 
@@ -131,10 +132,9 @@ class Trainer:
         keep = torch.from_numpy(view["keep"]).to(d)
         return obs, mask, keep
 
-    def _one_hot(self, truth: np.ndarray) -> torch.Tensor:
+    def _one_hot(self, truth: torch.Tensor) -> torch.Tensor:
         """Every row's true colours ``[rows, Y·C]`` one-hot (what a central critic reads)."""
-        t = torch.from_numpy(truth.astype(np.int64))
-        return F.one_hot(t, self.shapes.colours).reshape(t.shape[0], -1).float().to(self.device)
+        return F.one_hot(truth, self.shapes.colours).reshape(truth.shape[0], -1).float().to(self.device)
 
     @torch.no_grad()
     def rollout(self, shaping: float) -> dict:
@@ -144,12 +144,11 @@ class Trainer:
         ro = {k: [] for k in ("obs", "mask", "keep", "actions", "logp", "values", "truth", "end_paid", "rewards", "dones")}
         h0 = self.state.clone()
         games, entropy_sum, acting_rows = Games(), 0.0, 0
-        end = self.env.end_action
         for _ in range(t_len):
             view = self.view
             obs, mask, keep = self._tensors(view)
             h = m.recur(obs, self.state, keep)
-            truth = view["truth"]
+            truth = torch.from_numpy(view["truth"].astype(np.int64))
             values = m.values(h, self._one_hot(truth) if central else None)
             legal = mask.sum(1)
             actions = mask.argmax(1)
@@ -164,16 +163,16 @@ class Trainer:
                 logp[choosing] = lp.gather(1, drawn.unsqueeze(1)).squeeze(1)
                 entropy_sum += float(-(probs * lp * mask[choosing]).sum())
             acting_rows += self.env.num_envs
+            # What END pays, on the acting rows (TrainEnv gives 0 where END is illegal).
             acting = torch.from_numpy(view["acting_seat"].astype(np.int64)) + torch.arange(0, rows, p)
             end_paid = torch.zeros(rows)
-            end_legal = mask[acting.to(self.device), end].cpu() > 0.5
-            end_paid[acting[end_legal]] = torch.from_numpy(view["end_reward"])[end_legal]
+            end_paid[acting] = torch.from_numpy(view["end_reward"])
             step = self.env.step(actions.cpu().numpy())
             reward = torch.from_numpy(step["reward"] + shaping * step["shaping"]).repeat_interleave(p)
             done = step["done"]
             games.add(step["final"], done)
             for k, v in (("obs", obs), ("mask", mask), ("keep", keep), ("actions", actions), ("logp", logp), ("values", values),
-                         ("truth", torch.from_numpy(truth.astype(np.int64))), ("end_paid", end_paid), ("rewards", reward),
+                         ("truth", truth), ("end_paid", end_paid), ("rewards", reward),
                          ("dones", torch.from_numpy(done.astype(np.float32)).repeat_interleave(p))):
                 ro[k].append(v.to(self.device))
             self.state = h
@@ -182,7 +181,8 @@ class Trainer:
         # Value targets: GAE, bootstrapped from the values after the last step.
         obs, _, keep = self._tensors(self.view)
         h_last = m.recur(obs, self.state, keep)
-        last = m.values(h_last, self._one_hot(self.view["truth"]) if central else None)
+        last_truth = torch.from_numpy(self.view["truth"].astype(np.int64))
+        last = m.values(h_last, self._one_hot(last_truth) if central else None)
         ro["adv"], ro["returns"] = gae(ro["rewards"], ro["values"], ro["dones"], last, c["gamma"], c["gae_lambda"])
         ro["h0"] = h0
         ro["games"] = games.metrics()
@@ -305,14 +305,13 @@ class Trainer:
         losses = self.learn(ro, lr)
         self.update += 1
         seconds = time.perf_counter() - start
-        per = self.c["num_envs"] * self.c["rollout_steps"]
+        per = self.per_update
         return {"update": self.update, "env_steps": self.update * per, "sps": per / seconds, "games": ro["games"],
                 "entropy": ro["entropy"], "lr": lr, "shaping": shaping, "rollout_seconds": rollout_seconds,
                 "learn_seconds": seconds - rollout_seconds, **losses}
 
     def metadata(self) -> dict[str, str]:
         """What a policy file says of itself (``artifact/safetensors.rs``'s keys)."""
-        per = self.c["num_envs"] * self.c["rollout_steps"]
         return {
             "yokai.train_config": self.env.train_config,
             "yokai.game": self.env.game_config,
@@ -320,7 +319,7 @@ class Trainer:
             "yokai.observation_shape": str(list(self.env.observation_shape)),
             "yokai.seed": str(self.seed),
             "yokai.update": str(self.update),
-            "yokai.env_steps": str(self.update * per),
+            "yokai.env_steps": str(self.update * self.per_update),
             "yokai.trainer": "yokai.torch_train",
         }
 
