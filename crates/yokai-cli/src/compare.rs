@@ -1,5 +1,6 @@
-//! `yokai compare`: several evaluation outputs in one table.
+//! `yokai compare`: several evaluation outputs in one table, beside the paper's rows.
 
+use crate::paper::PaperTable;
 use crate::summary::{paper_rows, table_row, EvalSummary, TABLE_HEAD};
 use anyhow::{anyhow, Context};
 use std::path::PathBuf;
@@ -13,32 +14,62 @@ pub struct Args {
     /// Write the table to this Markdown file as well.
     #[arg(short, long)]
     out: Option<PathBuf>,
+    /// The paper's table whose rows to print beside ours, for each game: 2 (the main
+    /// table), 3 (OP's entropy sweep), 4 (OP's symmetry groups), 5 (encoders), 6
+    /// (imperfect memory).
+    #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u8).range(2..=6))]
+    paper_table: u8,
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
     let mut summaries = Vec::new();
     for dir in &args.evaluations {
-        let path = dir.join("summary.json");
-        let text = std::fs::read_to_string(&path).map_err(|e| {
-            anyhow!(
-                "cannot read {}: {e} (is {} the --out of `yokai eval` with trained policies?)",
-                path.display(),
-                dir.display()
-            )
-        })?;
-        let summary: EvalSummary = serde_json::from_str(&text)
-            .with_context(|| format!("{} is not an evaluation summary", path.display()))?;
-        if summary.groups.is_empty() {
-            return Err(anyhow!(
-                "{} has no trained methods to compare (only built-in policies were evaluated)",
-                dir.display()
-            ));
-        }
-        summaries.push(summary);
+        summaries.push(read_summary(dir)?);
     }
-    let mut games: Vec<&str> = summaries.iter().map(|s| s.game.as_str()).collect();
-    games.dedup();
-    let mut out = String::new();
+    let paper = crate::paper::table(args.paper_table)
+        .ok_or_else(|| anyhow!("the paper has no Table {}", args.paper_table))?;
+    let out = table(&summaries, paper);
+    print!("{out}");
+    if let Some(path) = args.out {
+        std::fs::write(&path, &out).with_context(|| format!("cannot write {}", path.display()))?;
+    }
+    Ok(())
+}
+
+/// An evaluation's `summary.json`, with at least one trained method in it.
+fn read_summary(dir: &std::path::Path) -> anyhow::Result<EvalSummary> {
+    let path = dir.join("summary.json");
+    let text = std::fs::read_to_string(&path).map_err(|e| {
+        anyhow!(
+            "cannot read {}: {e} (is {} the --out of `yokai eval` with trained policies?)",
+            path.display(),
+            dir.display()
+        )
+    })?;
+    let summary: EvalSummary = serde_json::from_str(&text)
+        .with_context(|| format!("{} is not an evaluation summary", path.display()))?;
+    if summary.groups.is_empty() {
+        return Err(anyhow!(
+            "{} has no trained methods to compare (only built-in policies were evaluated)",
+            dir.display()
+        ));
+    }
+    Ok(summary)
+}
+
+/// One section per game (in the order the evaluations first name it): our methods' rows,
+/// then the paper's rows of `paper` for that game.
+fn table(summaries: &[EvalSummary], paper: &PaperTable) -> String {
+    let mut games: Vec<&str> = Vec::new();
+    for s in summaries {
+        if !games.contains(&s.game.as_str()) {
+            games.push(&s.game);
+        }
+    }
+    let mut out = format!(
+        "Beside the paper's Table {}: {}.\n\n",
+        paper.number, paper.title
+    );
     for game in &games {
         out += &format!("## {game}\n\n{TABLE_HEAD}");
         for s in summaries.iter().filter(|s| s.game == *game) {
@@ -46,12 +77,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 out += &table_row(g);
             }
         }
-        out += &paper_rows(game);
+        out += &paper_rows(paper, game);
         out += "\n";
     }
-    print!("{out}");
-    if let Some(path) = args.out {
-        std::fs::write(&path, &out).with_context(|| format!("cannot write {}", path.display()))?;
-    }
-    Ok(())
+    out
 }

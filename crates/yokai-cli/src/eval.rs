@@ -402,7 +402,7 @@ pub fn report(
         for g in groups {
             out += &table_row(g);
         }
-        out += &paper_rows(&config.to_string());
+        out += &paper_rows(crate::paper::main_table(), &config.to_string());
         out += "\n";
     }
     for (title, file) in pictures {

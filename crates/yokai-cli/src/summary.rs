@@ -1,6 +1,7 @@
 //! The paper's table: per method (a group of seeds), SP and XP metrics as mean ± standard
 //! error over seeds (SP: the diagonal; XP: every pair of different seeds).
 
+use crate::paper::PaperTable;
 use serde::{Deserialize, Serialize};
 use yokai_engine::Metrics;
 
@@ -168,18 +169,25 @@ pub fn table_row(g: &GroupSummary) -> String {
     )
 }
 
-/// The paper's published rows for a game (`paper::TABLE_9C_2P`), as Markdown rows of the
-/// same table; empty for games the paper has no table for.
-pub fn paper_rows(game: &str) -> String {
-    if game != "9c-2p-perfect" {
-        return String::new();
-    }
-    crate::paper::TABLE_9C_2P
+/// The published rows of the paper's table `table` for `game`, as Markdown rows of the same
+/// table ("paper: METHOD"); the human baseline (imperfect memory) stands in every 9c-2p
+/// table as the score to reach. Empty where the table has no row for the game.
+pub fn paper_rows(table: &PaperTable, game: &str) -> String {
+    table
+        .rows
         .iter()
+        .filter(|r| r.game == game || (r.method == "humans" && game.starts_with("9c-2p-")))
         .map(|r| {
+            let method = if r.game == game {
+                r.method.to_string()
+            } else {
+                format!("{} ({})", r.method, r.game)
+            };
             format!(
-                "| paper: {} | {} | {} | {} | – | – | – | {} | {} | – | – | {} |\n",
-                r.method, r.seeds, r.sp_r, r.sp_see, r.xp_r, r.xp_see, r.xp_len
+                "| paper: {method} | {} | {} | {} |\n",
+                r.seeds,
+                r.sp.join(" | "),
+                r.xp.join(" | ")
             )
         })
         .collect()
@@ -239,8 +247,14 @@ mod tests {
             "one XP pair: the mean alone, {row}"
         );
         // One printed row per method of the paper's table, in the table's columns.
-        let rows = paper_rows("9c-2p-perfect");
-        assert_eq!(rows.lines().count(), crate::paper::TABLE_9C_2P.len());
+        let main = crate::paper::table(2).unwrap();
+        let rows = paper_rows(main, "9c-2p-perfect");
+        // IPPO, HE, OP, OBL levels 1–5 and the humans.
+        assert_eq!(rows.lines().count(), 9, "{rows}");
+        assert!(
+            rows.contains("| paper: humans (9c-2p-imperfect) | – | – |"),
+            "{rows}"
+        );
         for line in rows.lines() {
             assert_eq!(
                 line.matches('|').count(),
@@ -248,6 +262,7 @@ mod tests {
                 "{line}"
             );
         }
-        assert!(paper_rows("16c-2p-perfect").is_empty());
+        assert_eq!(paper_rows(main, "16c-2p-perfect").lines().count(), 1);
+        assert!(paper_rows(main, "16c-3p-perfect").is_empty());
     }
 }

@@ -237,7 +237,7 @@ fn train_then_eval_a_run_directory() {
         "one row for the method, two seeds: {t}"
     );
     assert!(
-        t.contains("| paper: OP | 12 | 6.6 |"),
+        t.contains("| paper: OP | 12 | 6.6 ± 0.2 | 84 ± 2 | 90 ± 2 | 93 ± 1 | 25.2 ± 0.2 | 4.8 ± 0.1 |"),
         "paper reference rows: {t}"
     );
     assert!(out_dir.join("seed-1/policy.ykp").exists());
@@ -328,6 +328,17 @@ fn train_then_eval_a_run_directory() {
     let out = yokai(&["compare", eval.to_str().unwrap()]);
     assert!(out.status.success(), "{}", text(&out));
     assert!(text(&out).contains(&format!("| {} | 2 |", out_dir.display())));
+    // Beside another of the paper's tables; a table it does not have is refused.
+    let e = eval.to_str().unwrap();
+    let out = yokai(&["compare", e, "--paper-table", "4"]);
+    let t = text(&out);
+    assert!(t.starts_with("Beside the paper's Table 4: "), "{t}");
+    assert!(
+        t.contains("| paper: OP Φ_col (colours) | 12 | 7.6 ± 0.1 |") && !t.contains("paper: IPPO"),
+        "{t}"
+    );
+    let out = yokai(&["compare", e, "--paper-table", "7"]);
+    assert!(!out.status.success() && text(&out).contains("7 is not in 2..=6"), "{}", text(&out));
     let glob = format!("{}/seed-*", out_dir.display());
     for arg in [glob.as_str(), out_dir.to_str().unwrap()] {
         let out = yokai(&["eval", arg, "--games", "10"]);
