@@ -34,20 +34,39 @@ def test_seeds_and_sweep_files_parse(tmp_path):
         sweep.parse_seeds("a..b")
     spec = tmp_path / "paper.toml"
     spec.write_text('seeds = "0..2"\n[[row]]\nconfig = "ippo-9c-2p"\n[[row]]\nconfig = "op-9c-2p"\nseeds = "5"\nout = "x/op"\n')
-    args = sweep.main.__globals__["argparse"].Namespace(sweep=str(spec), out="runs", configs=[], seeds="0..3")
+    args = sweep.main.__globals__["argparse"].Namespace(sweep=str(spec), out="runs", configs=[], seeds=None)
     rows = sweep.rows_from_args(args)
     assert rows == [
         sweep.Row("ippo-9c-2p", (0, 1), pathlib.Path("runs/ippo-9c-2p")),
         sweep.Row("op-9c-2p", (5,), pathlib.Path("x/op")),
     ]
-    # The shipped sweep files name shipped presets.
+    # --seeds and --set on the command line reach every row.
+    args.seeds, args.set = "3", ["ppo.total_steps=64"]
+    assert [(r.seeds, r.set) for r in sweep.rows_from_args(args)] == [((3,), ("ppo.total_steps=64",))] * 2
+    args.seeds, args.set = None, None
+    # The shipped sweep files name shipped presets, with the paper's seeds (Table 5: four).
     root = pathlib.Path(__file__).resolve().parents[2]
     for shipped in (root / "sweeps").glob("*.toml"):
         args.sweep = str(shipped)
         for row in sweep.rows_from_args(args):
             assert (root / "configs" / f"{row.config}.toml").exists(), (shipped, row)
-            assert len(row.seeds) == 12
+            assert len(row.seeds) == (4 if shipped.name == "table5.toml" else 12), shipped
+    # Table 2: OBL's five levels in one row, each level its own directory.
+    args.sweep = str(root / "sweeps" / "table2.toml")
+    obl = [r for r in sweep.rows_from_args(args) if r.levels]
+    assert [(r.config, r.levels) for r in obl] == [("obl-9c-2p", (1, 2, 3, 4, 5))]
+    assert obl[0].runs()[4] == pathlib.Path("runs/table2/obl-9c-2p/level-5")
+    assert sweep.table_options(args.sweep) == {"paper_table": 2, "select_entropy": None}
+    assert sweep.table_options(str(root / "sweeps" / "he-alpha.toml")) == {"paper_table": 2, "select_entropy": 0.1}
     args.sweep = str(spec)
+    for bad, match in [('table = 7\n[[row]]\nconfig = "quick"\n', "Tables 2 to 6"),
+                       ('select_entropy = -1\n[[row]]\nconfig = "quick"\n', "tolerance"),
+                       ('[[row]]\nconfig = "obl-quick"\nlevels = "0..2"\n', "count from 1"),
+                       ('[[row]]\nconfig = "obl-quick"\nlevels = "x"\n', "row 1: levels")]:
+        spec.write_text(bad)
+        with pytest.raises(ValueError, match=match):
+            sweep.rows_from_args(args)
+            sweep.table_options(args.sweep)
     spec.write_text('[[row]]\nconfig = "quick"\nseed = "1"\n')
     with pytest.raises(ValueError, match="row 1 needs config"):
         sweep.rows_from_args(args)
@@ -176,3 +195,44 @@ def test_a_rows_overrides_reach_the_trainer_and_a_resume_keeps_them(tmp_path):
     saved = (out / "seed-0" / "config.toml").read_text()
     assert re.search(r"^lr = 0\.0125$", saved, re.M), saved
     assert train_seed()["status"] == "finished earlier"
+
+
+# Every preset at a few steps: 2 updates of 8 games × 8 steps, a 16-unit belief trained for
+# 2 updates on OBL levels ≥ 2.
+TINY_SETS = ["ppo.num_envs=8", "ppo.rollout_steps=8", "ppo.minibatches=2", "ppo.epochs=1",
+             "ppo.total_steps=128", "obl.belief_updates=2", "obl.belief_hidden=16"]
+SWEEPS = pathlib.Path(__file__).resolve().parents[2] / "sweeps"
+
+
+@pytest.mark.parametrize("name", sorted(p.name for p in SWEEPS.glob("*.toml")))
+def test_every_shipped_sweep_runs_tiny_and_writes_its_table(tmp_path, name):
+    """Each table's sweep, cut to 2 seeds and a few steps, trains every row, evaluates it and
+    writes one table with a row per method (per OBL level) beside the paper's table."""
+    if not BINARY.exists():
+        pytest.skip("needs the yokai binary: scripts/test.sh builds it before pytest")
+    sets = [arg for s in TINY_SETS for arg in ("--set", s)]
+    proc = subprocess.run(
+        [sys.executable, "-m", "yokai.sweep", "--sweep", str(SWEEPS / name), "--seeds", "0..2",
+         "--num-cpus", "2", "--eval-games", "10", "--yokai", str(BINARY), *sets],
+        cwd=tmp_path, capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    args = sweep.main.__globals__["argparse"].Namespace(sweep=str(SWEEPS / name), out=None, configs=[],
+                                                        seeds="0..2", set=TINY_SETS)
+    rows = sweep.rows_from_args(args)
+    options = sweep.table_options(str(SWEEPS / name))
+    table = (tmp_path / rows[0].out.parent / "table.md").read_text()
+    assert table.startswith(f"Beside the paper's Table {options['paper_table']}: "), table
+    runs = [r for row in rows for r in row.runs()]
+    for run in runs:
+        assert f"\n| {run} | 2 | " in table, (run, table)
+        # The tiny overrides reached the trainer.
+        assert re.search(r"^total_steps = 128$", (tmp_path / run / "seed-1" / "config.toml").read_text(), re.M)
+    ours = [l for l in table.splitlines() if l.startswith("| runs/")]
+    assert len(ours) == len(runs), table
+    sections = table.count("\n## ")
+    assert sections >= 1 and table.count("| paper: ") >= sections, table
+    if options["select_entropy"] is not None:
+        # HE's α selection, one per game, over the six α of the sweep.
+        assert table.count("HE's α selection") == 2, table
+        for alpha in ("0.02", "0.07"):
+            assert table.count(f"\n| {alpha} | runs/") == 2, table

@@ -23,15 +23,27 @@ laptop. The driver prints one line per seed (update, steps, R, ETA) read from ea
 
 A sweep file lists several rows (a grid over configs × seeds)::
 
-    # sweeps/paper.toml
+    # sweeps/table2.toml
     seeds = "0..12"            # default for every row
+    table = 2                  # the paper's table printed beside the closing one
     [[row]]
     config = "ippo-9c-2p"
     [[row]]
+    config = "obl-9c-2p"
+    levels = "1..6"            # OBL levels 1 to 5 in turn, each its own row (out/level-L)
+    [[row]]
     config = "op-9c-2p"
-    out = "runs/op"            # default: <--out>/<config name>
+    set = ["ppo.entropy_coef=0.03"]   # yokai train --set: a grid of a config field
+    out = "runs/op"            # default: <--out>/<config name>[-<field>-<value>...]
 
-``python -m yokai.sweep --sweep sweeps/paper.toml --address auto --gpus-per-seed 1``
+A file may also ask for HE's α selection at the end (``select_entropy = 0.1``, see
+``yokai compare --select-entropy``). On the command line, ``--seeds`` replaces every row's
+seeds and ``--set`` adds an override to every row, so one command runs a whole table at a
+CPU budget, or tiny::
+
+    python -m yokai.sweep --sweep sweeps/table2.toml --seeds 0..3 --set ppo.total_steps=2000000
+
+``python -m yokai.sweep --sweep sweeps/table2.toml --address auto --gpus-per-seed 1``
 """
 
 from __future__ import annotations
@@ -67,6 +79,14 @@ class Row:
     seeds: tuple
     out: pathlib.Path
     set: tuple = ()
+    #: Off-Belief Learning levels trained one after another (``yokai train --levels``), each
+    #: into ``out/level-L``; empty for every other method.
+    levels: tuple = ()
+
+    def runs(self) -> list:
+        """The directories of seed runs this row trains and evaluates: ``out``, or one
+        ``out/level-L`` per OBL level."""
+        return [self.out / f"level-{l}" for l in self.levels] if self.levels else [self.out]
 
 
 def parse_seeds(text: str) -> tuple:
@@ -115,24 +135,39 @@ def _die_with_parent():  # pragma: no cover - runs in the child between fork and
 
 
 def train_seed(yokai: str, config: str, seed: int, out: str, threads: int, device: str = "cpu",
-               overrides: tuple = ()) -> dict:
-    """Train (or resume, or skip) one seed; the body of a Ray task. Returns a summary."""
-    run = pathlib.Path(out) / f"seed-{seed}"
+               overrides: tuple = (), levels: tuple = ()) -> dict:
+    """Train (or resume, or skip) one seed; the body of a Ray task. Returns a summary.
+    With ``levels``, the seed's OBL levels in order (level L reads the same seed's level
+    L-1), each resumed or skipped on its own."""
+    if not levels:
+        return _train_run(yokai, config, seed, pathlib.Path(out), threads, device, overrides, [])
+    result = {}
+    for level in levels:
+        result = _train_run(yokai, config, seed, pathlib.Path(out) / f"level-{level}", threads, device,
+                            overrides, ["--levels", str(level)], out=pathlib.Path(out))
+        result["level"] = level
+    return result
+
+
+def _train_run(yokai: str, config: str, seed: int, runs: pathlib.Path, threads: int, device: str,
+               overrides: tuple, extra: list, out: pathlib.Path | None = None) -> dict:
+    """``yokai train`` of one seed into ``runs/seed-N`` (``--out out``, ``runs`` by default)."""
+    run = runs / f"seed-{seed}"
     if (run / DONE).exists():
         return {"seed": seed, "status": "finished earlier"}
     resume = (run / "checkpoint.ykc").exists()
     run.mkdir(parents=True, exist_ok=True)
     _note(run, f"pid {os.getpid()} {'resumes from its checkpoint' if resume else 'starts'}")
     (run / ".sweep-worker").write_text(str(os.getpid()))
-    cmd = [yokai, "train", config, "--seeds", str(seed), "--out", out, "--eval-games", "0",
-           "--threads", str(threads), "--device", device] + (["--resume"] if resume else [])
+    cmd = [yokai, "train", config, "--seeds", str(seed), "--out", str(out or runs), "--eval-games", "0",
+           "--threads", str(threads), "--device", device, *extra] + (["--resume"] if resume else [])
     if not resume:  # a resumed run keeps its checkpoint's config
         cmd += [arg for o in overrides for arg in ("--set", o)]
     proc = subprocess.run(cmd, capture_output=True, text=True,
                           preexec_fn=_die_with_parent if sys.platform.startswith("linux") else None)
     if proc.returncode != 0:
         _note(run, f"pid {os.getpid()} failed: exit {proc.returncode}")
-        raise RuntimeError(f"yokai train {config} seed {seed} exited with {proc.returncode}:\n"
+        raise RuntimeError(f"yokai train {config} seed {seed} ({run}) exited with {proc.returncode}:\n"
                            f"{proc.stderr[-2000:]}")
     # yokai's summary, "seed N: U updates, S env steps (S' now, in T s: …)", says how many
     # steps this attempt trained, hence where it resumed.
@@ -174,11 +209,16 @@ def _total_steps(run: pathlib.Path) -> int | None:
 
 
 def progress_line(row: Row, seed: int, started: dict) -> str:
-    """``seed N: update U, steps S/T, R r, ETA`` from the run's own files."""
-    run = row.out / f"seed-{seed}"
+    """``seed N: update U, steps S/T, R r, ETA`` from the run's own files (of the level it
+    is on, for OBL)."""
     name = f"{config_name(row.config)} seed {seed}"
-    if (run / DONE).exists():
+    runs = row.runs()
+    level = next((i for i, r in enumerate(runs) if not (r / f"seed-{seed}" / DONE).exists()), None)
+    if level is None:
         return f"{name}: finished"
+    run = runs[level] / f"seed-{seed}"
+    if row.levels:
+        name += f" level {row.levels[level]}"
     last = _last_metrics(run)
     if last is None:
         return f"{name}: waiting"
@@ -190,7 +230,7 @@ def progress_line(row: Row, seed: int, started: dict) -> str:
         line += f"/{total:,}"
     if reward is not None:
         line += f", R {reward:+.2f}"
-    first = started.setdefault((row, seed), (time.time(), steps))
+    first = started.setdefault((run, seed), (time.time(), steps))
     rate = (steps - first[1]) / max(time.time() - first[0], 1e-9)
     if total and rate > 0:
         line += f", ETA {int((total - steps) / rate)} s"
@@ -199,10 +239,11 @@ def progress_line(row: Row, seed: int, started: dict) -> str:
 
 def run_sweep(rows, address=None, cpus_per_seed=1, gpus_per_seed=0.0, max_retries=3,
               eval_games=1000, yokai=None, num_cpus=None, progress_every=10.0, quiet=False,
-              device="cpu"):
-    """Train every seed of every row as Ray tasks, then evaluate each row; returns
-    ``{"runs": [...], "evals": [...], "table": path or None}``. ``num_cpus`` caps a local
-    Ray instance (tests)."""
+              device="cpu", paper_table=2, select_entropy=None):
+    """Train every seed of every row as Ray tasks, then evaluate each row (each OBL level
+    apart); returns ``{"runs": [...], "evals": [...], "table": path or None}``, the table
+    beside the paper's Table ``paper_table`` (with HE's α selection at that tolerance when
+    ``select_entropy`` is given). ``num_cpus`` caps a local Ray instance (tests)."""
     try:
         import ray
     except ImportError:
@@ -219,7 +260,7 @@ def run_sweep(rows, address=None, cpus_per_seed=1, gpus_per_seed=0.0, max_retrie
         row.out.mkdir(parents=True, exist_ok=True)
         for seed in row.seeds:
             refs[task.remote(yokai, row.config, seed, str(row.out), max(1, int(cpus_per_seed)), device,
-                             row.set)] = (row, seed)
+                             row.set, row.levels)] = (row, seed)
     started, results, pending = {}, [], list(refs)
     next_report = time.time()
     while pending:
@@ -233,35 +274,72 @@ def run_sweep(rows, address=None, cpus_per_seed=1, gpus_per_seed=0.0, max_retrie
     evals = []
     if eval_games > 0:
         evaluate = ray.remote(num_cpus=cpus_per_seed)(evaluate_row)
-        evals = ray.get([evaluate.remote(yokai, str(row.out), eval_games, max(1, int(cpus_per_seed)))
-                         for row in rows])
+        evals = ray.get([evaluate.remote(yokai, str(runs), eval_games, max(1, int(cpus_per_seed)))
+                         for row in rows for runs in row.runs()])
     table = None
     if len(evals) > 1:
         table = str(rows[0].out.parent / "table.md")
-        proc = subprocess.run([yokai, "compare", *evals, "--out", table], capture_output=True, text=True)
+        select = ["--select-entropy", str(select_entropy)] if select_entropy is not None else []
+        proc = subprocess.run([yokai, "compare", *evals, "--out", table, "--paper-table", str(paper_table),
+                               *select], capture_output=True, text=True)
         if proc.returncode != 0:
             raise RuntimeError(f"yokai compare exited with {proc.returncode}:\n{proc.stderr[-2000:]}")
     return {"runs": results, "evals": evals, "table": table}
 
 
+def read_sweep(path) -> dict:
+    """A sweep file's TOML, its top-level keys checked."""
+    spec = tomllib.loads(pathlib.Path(path).read_text())
+    unknown = set(spec) - {"seeds", "out", "row", "table", "select_entropy"}
+    if unknown:
+        raise ValueError(f"{path}: unknown keys {sorted(unknown)} (seeds, out, table, select_entropy, [[row]])")
+    tolerance = spec.get("select_entropy")
+    if tolerance is not None and not (isinstance(tolerance, (int, float)) and tolerance >= 0):
+        raise ValueError(f"{path}: select_entropy is a tolerance in R (>= 0), not {tolerance!r}")
+    table = spec.get("table", 2)
+    if not (isinstance(table, int) and 2 <= table <= 6):
+        raise ValueError(f"{path}: table must be the number of one of the paper's Tables 2 to 6, not {table!r}")
+    return spec
+
+
+def table_options(path) -> dict:
+    """What a sweep file asks of its closing table: the paper's table beside it
+    (``table``), HE's α selection (``select_entropy``)."""
+    spec = read_sweep(path) if path else {}
+    return {"paper_table": spec.get("table", 2), "select_entropy": spec.get("select_entropy")}
+
+
 def rows_from_args(args) -> list:
+    """The rows to train: the sweep file's, or one per config. ``--seeds`` given on the
+    command line replaces every row's seeds and ``--set`` is added to every row's
+    overrides (after its own, so it wins): a whole table at another budget, or tiny."""
     out = pathlib.Path(args.out) if args.out else None
+    given_seeds = parse_seeds(args.seeds) if args.seeds is not None else None
+    extra = tuple(getattr(args, "set", None) or ())
+    if not all("=" in o for o in extra):
+        raise ValueError("--set takes FIELD=VALUE")
     if args.sweep:
-        spec = tomllib.loads(pathlib.Path(args.sweep).read_text())
-        unknown = set(spec) - {"seeds", "out", "row"}
-        if unknown:
-            raise ValueError(f"{args.sweep}: unknown keys {sorted(unknown)} (seeds, out, [[row]])")
+        spec = read_sweep(args.sweep)
         base = pathlib.Path(spec.get("out", out or "runs"))
         rows = []
         for i, r in enumerate(spec.get("row", [])):
-            if "config" not in r or set(r) - {"config", "seeds", "out", "set", "name"}:
-                raise ValueError(f"{args.sweep}: row {i + 1} needs config (and may have seeds, out, set, name)")
+            if "config" not in r or set(r) - {"config", "seeds", "out", "set", "name", "levels"}:
+                raise ValueError(f"{args.sweep}: row {i + 1} needs config (and may have seeds, out, set, name, levels)")
             overrides = r.get("set", [])
             if not (isinstance(overrides, list) and all(isinstance(o, str) and "=" in o for o in overrides)):
                 raise ValueError(f"{args.sweep}: row {i + 1}: set must be a list of \"FIELD=VALUE\" strings")
-            seeds = parse_seeds(r.get("seeds", spec.get("seeds", args.seeds)))
+            seeds = given_seeds or parse_seeds(r.get("seeds", spec.get("seeds", "0..3")))
+            levels = ()
+            if "levels" in r:
+                try:
+                    levels = parse_seeds(str(r["levels"]))
+                except ValueError as e:
+                    raise ValueError(f"{args.sweep}: row {i + 1}: levels: {str(e).removeprefix('--seeds ')}") from None
+                if 0 in levels:
+                    raise ValueError(f"{args.sweep}: row {i + 1}: OBL levels count from 1")
             name = r.get("name") or row_name(r["config"], overrides)
-            rows.append(Row(r["config"], seeds, pathlib.Path(r.get("out", base / name)), tuple(overrides)))
+            rows.append(Row(r["config"], seeds, pathlib.Path(r.get("out", base / name)),
+                            tuple(overrides) + extra, levels))
         outs = [row.out for row in rows]
         if len(set(outs)) != len(outs):
             raise ValueError(f"{args.sweep}: two rows write to the same directory; give them a name or out")
@@ -270,11 +348,11 @@ def rows_from_args(args) -> list:
         return rows
     if not args.configs:
         raise ValueError("give one or more configs, or --sweep FILE")
-    seeds = parse_seeds(args.seeds)
+    seeds = given_seeds or parse_seeds("0..3")
     if len(args.configs) == 1 and out is not None:
-        return [Row(args.configs[0], seeds, out)]
+        return [Row(args.configs[0], seeds, out, extra)]
     base = out or pathlib.Path("runs")
-    return [Row(c, seeds, base / config_name(c)) for c in args.configs]
+    return [Row(c, seeds, base / config_name(c), extra) for c in args.configs]
 
 
 def main(argv=None):
@@ -282,7 +360,11 @@ def main(argv=None):
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("configs", nargs="*", help="training configs: preset names or TOML files")
     ap.add_argument("--sweep", help="a sweep file of rows (see below)")
-    ap.add_argument("--seeds", default="0..3", help="seeds: 0..12, 0,4,7 or 5 (default 0..3)")
+    ap.add_argument("--seeds", help="seeds: 0..12, 0,4,7 or 5 (default: the sweep file's, else 0..3); "
+                                   "replaces every row's")
+    ap.add_argument("--set", action="append", metavar="FIELD=VALUE",
+                    help="a config override for every row (yokai train --set), after the row's own: "
+                         "e.g. --set ppo.total_steps=2000000 to run a whole table at one budget")
     ap.add_argument("--out", help="run directory of one config, or the parent of one per config "
                                   "(default runs/<config>)")
     ap.add_argument("--address", help="Ray cluster address (auto, ray://host:10001); default: "
@@ -306,7 +388,7 @@ def main(argv=None):
     result = run_sweep(rows, address=args.address, cpus_per_seed=args.cpus_per_seed,
                        gpus_per_seed=args.gpus_per_seed, max_retries=args.max_retries,
                        eval_games=args.eval_games, yokai=args.yokai, num_cpus=args.num_cpus,
-                       device=args.device)
+                       device=args.device, **table_options(args.sweep))
     for r in result["runs"]:
         print(f"seed {r['seed']}: {r['status']}")
     for e in result["evals"]:

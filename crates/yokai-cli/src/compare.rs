@@ -1,7 +1,9 @@
 //! `yokai compare`: several evaluation outputs in one table, beside the paper's rows.
 
 use crate::paper::PaperTable;
-use crate::summary::{paper_rows, table_row, EvalSummary, TABLE_HEAD};
+use crate::summary::{
+    paper_rows, select_entropy, table_row, EvalSummary, GroupSummary, TABLE_HEAD,
+};
 use anyhow::{anyhow, Context};
 use std::path::PathBuf;
 
@@ -19,6 +21,11 @@ pub struct Args {
     /// (imperfect memory).
     #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u8).range(2..=6))]
     paper_table: u8,
+    /// HE's α selection (the paper's rule for more than 2 players): for each game, of the
+    /// methods trained with different entropy coefficients (e.g. `sweeps/he-alpha.toml`),
+    /// name the lowest α whose SP and XP returns differ by at most TOL (default 0.1).
+    #[arg(long, value_name = "TOL", num_args = 0..=1, default_missing_value = "0.1")]
+    select_entropy: Option<f64>,
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
@@ -28,7 +35,25 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     let paper = crate::paper::table(args.paper_table)
         .ok_or_else(|| anyhow!("the paper has no Table {}", args.paper_table))?;
-    let out = table(&summaries, paper);
+    let mut out = table(&summaries, paper);
+    if let Some(tolerance) = args.select_entropy {
+        if tolerance.is_nan() || tolerance < 0.0 {
+            return Err(anyhow!(
+                "--select-entropy takes a tolerance ≥ 0, not {tolerance}"
+            ));
+        }
+        for game in games(&summaries) {
+            let groups: Vec<&GroupSummary> = summaries
+                .iter()
+                .filter(|s| s.game == game)
+                .flat_map(|s| &s.groups)
+                .collect();
+            out += &format!(
+                "## {game}: {}\n",
+                select_entropy(&groups, tolerance).report()
+            );
+        }
+    }
     print!("{out}");
     if let Some(path) = args.out {
         std::fs::write(&path, &out).with_context(|| format!("cannot write {}", path.display()))?;
@@ -57,22 +82,27 @@ fn read_summary(dir: &std::path::Path) -> anyhow::Result<EvalSummary> {
     Ok(summary)
 }
 
-/// One section per game (in the order the evaluations first name it): our methods' rows,
-/// then the paper's rows of `paper` for that game.
-fn table(summaries: &[EvalSummary], paper: &PaperTable) -> String {
+/// The games of the evaluations, each once, in the order they first appear.
+fn games(summaries: &[EvalSummary]) -> Vec<&str> {
     let mut games: Vec<&str> = Vec::new();
     for s in summaries {
         if !games.contains(&s.game.as_str()) {
             games.push(&s.game);
         }
     }
+    games
+}
+
+/// One section per game (in the order the evaluations first name it): our methods' rows,
+/// then the paper's rows of `paper` for that game.
+fn table(summaries: &[EvalSummary], paper: &PaperTable) -> String {
     let mut out = format!(
         "Beside the paper's Table {}: {}.\n\n",
         paper.number, paper.title
     );
-    for game in &games {
+    for game in games(summaries) {
         out += &format!("## {game}\n\n{TABLE_HEAD}");
-        for s in summaries.iter().filter(|s| s.game == *game) {
+        for s in summaries.iter().filter(|s| s.game == game) {
             for g in &s.groups {
                 out += &table_row(g);
             }

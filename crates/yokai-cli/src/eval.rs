@@ -2,7 +2,7 @@
 
 use crate::plots;
 use crate::summary::{
-    paper_rows, summarise, table_row, DistinctSet, EvalSummary, GroupSummary, TABLE_HEAD,
+    paper_rows, shared, summarise, table_row, DistinctSet, EvalSummary, GroupSummary, TABLE_HEAD,
 };
 use anyhow::{bail, Context};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -14,7 +14,7 @@ use yokai_agents::eval::{
 use yokai_agents::Policy;
 use yokai_engine::{Config, Metrics};
 use yokai_train::source::{end_rule_label, run_dir_of};
-use yokai_train::{EndRule, PolicySource};
+use yokai_train::{EndRule, PolicySource, TrainConfig};
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -374,7 +374,19 @@ pub fn summarise_groups(
         results.iter().map(|c| (c.row, c.col, c.metrics)).collect();
     groups_of(entries)
         .iter()
-        .map(|(method, members)| summarise(method, names, &flat, members))
+        .map(|(method, members)| {
+            let mut g = summarise(method, names, &flat, members);
+            let trained = || members.iter().filter_map(|&i| entries[i].trained());
+            g.entropy_coef = shared(trained().map(|p| {
+                TrainConfig::from_toml_str(&p.header().train_config, "policy")
+                    .ok()
+                    // Through its shortest decimal: 0.07, not 0.07000000029802322.
+                    .and_then(|c| c.ppo.entropy_coef.to_string().parse::<f64>().ok())
+            }))
+            .flatten();
+            g.env_steps = shared(trained().map(|p| p.header().env_steps));
+            g
+        })
         .collect()
 }
 

@@ -79,6 +79,12 @@ pub struct GroupSummary {
     /// The sets behind `xp_distinct`.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub xp_sets: Vec<DistinctSet>,
+    /// What the seeds trained with, where they all agree: the PPO entropy coefficient α
+    /// (for HE's α selection, `yokai compare --select-entropy`) and the env steps trained.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub entropy_coef: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub env_steps: Option<u64>,
 }
 
 /// One set of n distinct seeds of a method in cross-play, and its games' metrics.
@@ -131,6 +137,99 @@ pub fn summarise(
         xp: Side::of(&xp),
         xp_distinct: None,
         xp_sets: Vec::new(),
+        entropy_coef: None,
+        env_steps: None,
+    }
+}
+
+/// The value every seed has, or `None` where they differ (or there are none).
+pub fn shared<T: PartialEq>(mut values: impl Iterator<Item = T>) -> Option<T> {
+    let first = values.next()?;
+    values.all(|v| v == first).then_some(first)
+}
+
+/// HE's rule for more than 2 players (the paper, §5.1): of the methods that differ in their
+/// entropy coefficient α, the one with the lowest α whose SP and XP returns match (differ
+/// by at most `tolerance`). XP is the paper's J_XP where the game has more than 2 seats.
+pub fn select_entropy(groups: &[&GroupSummary], tolerance: f64) -> EntropySelection {
+    let mut candidates: Vec<EntropyCandidate> = groups
+        .iter()
+        .filter_map(|g| {
+            let xp = g.xp_distinct.as_ref().unwrap_or(&g.xp);
+            Some(EntropyCandidate {
+                name: g.name.clone(),
+                entropy_coef: g.entropy_coef?,
+                sp: g.sp.reward?.mean,
+                xp: xp.reward?.mean,
+            })
+        })
+        .collect();
+    candidates.sort_by(|a, b| a.entropy_coef.total_cmp(&b.entropy_coef));
+    let selected = candidates
+        .iter()
+        .position(|c| (c.sp - c.xp).abs() <= tolerance);
+    EntropySelection {
+        candidates,
+        selected,
+        tolerance,
+    }
+}
+
+/// A method in HE's α selection.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EntropyCandidate {
+    pub name: String,
+    pub entropy_coef: f64,
+    pub sp: f64,
+    pub xp: f64,
+}
+
+/// The candidates by ascending α and the one chosen, if any matched.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EntropySelection {
+    pub candidates: Vec<EntropyCandidate>,
+    pub selected: Option<usize>,
+    pub tolerance: f64,
+}
+
+impl EntropySelection {
+    /// A Markdown table of the candidates, the chosen one marked, and a line saying which.
+    pub fn report(&self) -> String {
+        let mut out = format!(
+            "The lowest entropy coefficient α whose SP and XP returns differ by at most {} \
+             (the paper's rule for HE with more than 2 players).\n\n\
+             | α | method | SP R | XP R | SP − XP |\n|---|---|---|---|---|\n",
+            self.tolerance
+        );
+        for (i, c) in self.candidates.iter().enumerate() {
+            let mark = if Some(i) == self.selected {
+                " **selected**"
+            } else {
+                ""
+            };
+            out += &format!(
+                "| {} | {}{mark} | {:.2} | {:.2} | {:+.2} |\n",
+                c.entropy_coef,
+                c.name,
+                c.sp,
+                c.xp,
+                c.sp - c.xp
+            );
+        }
+        out += &match self.selected {
+            Some(i) => format!(
+                "\nselected α {} ({})\n",
+                self.candidates[i].entropy_coef, self.candidates[i].name
+            ),
+            None if self.candidates.is_empty() => {
+                "\nno method with a known α and both SP and XP: nothing to select\n".to_string()
+            }
+            None => format!(
+                "\nno α has SP and XP within {}: none selected (sweep higher α, or more seeds)\n",
+                self.tolerance
+            ),
+        };
+        out
     }
 }
 
@@ -264,5 +363,50 @@ mod tests {
         }
         assert_eq!(paper_rows(main, "16c-2p-perfect").lines().count(), 1);
         assert!(paper_rows(main, "16c-3p-perfect").is_empty());
+    }
+
+    #[test]
+    fn he_selects_the_lowest_entropy_whose_sp_and_xp_match() {
+        let names: Vec<String> = vec!["s0".into(), "s1".into()];
+        // A method of two seeds with SP returns `sp` each and XP `xp`, trained at α.
+        let method = |name: &str, alpha: Option<f64>, sp: i32, xp: i32| {
+            let cells = vec![
+                (0, 0, metrics(&[(sp, false, false)])),
+                (1, 1, metrics(&[(sp, false, false)])),
+                (0, 1, metrics(&[(xp, false, false)])),
+            ];
+            let mut g = summarise(name, &names, &cells, &[0, 1]);
+            g.entropy_coef = alpha;
+            g
+        };
+        let groups = [
+            method("a5", Some(0.05), 3, 3),
+            method("a2", Some(0.02), 6, 1), // far apart: not chosen though lowest
+            method("a4", Some(0.04), 2, 1),
+            method("a7", Some(0.07), 1, 1),
+            method("none", None, 0, 0), // α unknown: no candidate
+        ];
+        let refs: Vec<&GroupSummary> = groups.iter().collect();
+        let s = select_entropy(&refs, 0.1);
+        let alphas: Vec<f64> = s.candidates.iter().map(|c| c.entropy_coef).collect();
+        assert_eq!(alphas, [0.02, 0.04, 0.05, 0.07]);
+        assert_eq!(s.candidates[s.selected.unwrap()].name, "a5");
+        assert!(
+            s.report()
+                .contains("| 0.05 | a5 **selected** | 3.00 | 3.00 | +0.00 |"),
+            "{}",
+            s.report()
+        );
+        // A wider tolerance takes the lower α whose gap it covers.
+        let s = select_entropy(&refs, 1.0);
+        assert_eq!(s.candidates[s.selected.unwrap()].name, "a4");
+        // More than 2 seats: the n-distinct cross-play decides, not the pairs.
+        let mut g = method("a3", Some(0.03), 2, 2);
+        g.xp_distinct = Some(method("x", None, 0, 0).xp);
+        let s = select_entropy(&[&g], 0.1);
+        assert_eq!(s.selected, None);
+        assert!(s.report().contains("none selected"), "{}", s.report());
+        assert_eq!(shared([1, 1, 1].into_iter()), Some(1));
+        assert_eq!(shared([1, 2].into_iter()), None);
     }
 }

@@ -237,7 +237,9 @@ fn train_then_eval_a_run_directory() {
         "one row for the method, two seeds: {t}"
     );
     assert!(
-        t.contains("| paper: OP | 12 | 6.6 ± 0.2 | 84 ± 2 | 90 ± 2 | 93 ± 1 | 25.2 ± 0.2 | 4.8 ± 0.1 |"),
+        t.contains(
+            "| paper: OP | 12 | 6.6 ± 0.2 | 84 ± 2 | 90 ± 2 | 93 ± 1 | 25.2 ± 0.2 | 4.8 ± 0.1 |"
+        ),
         "paper reference rows: {t}"
     );
     assert!(out_dir.join("seed-1/policy.ykp").exists());
@@ -338,7 +340,11 @@ fn train_then_eval_a_run_directory() {
         "{t}"
     );
     let out = yokai(&["compare", e, "--paper-table", "7"]);
-    assert!(!out.status.success() && text(&out).contains("7 is not in 2..=6"), "{}", text(&out));
+    assert!(
+        !out.status.success() && text(&out).contains("7 is not in 2..=6"),
+        "{}",
+        text(&out)
+    );
     let glob = format!("{}/seed-*", out_dir.display());
     for arg in [glob.as_str(), out_dir.to_str().unwrap()] {
         let out = yokai(&["eval", arg, "--games", "10"]);
