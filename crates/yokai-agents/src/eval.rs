@@ -37,6 +37,7 @@ pub fn play_group(
                     &mut policies,
                 )?;
                 acc.add(&episode.outcome);
+                acc.add_moves(&config, &episode.record.actions);
             }
             progress(acc.games);
             Ok(acc)
@@ -276,6 +277,59 @@ mod tests {
         // Greedy never ends early; random ends most games early.
         assert_eq!(results[2].metrics.early_end, 0.0);
         assert!(results[0].metrics.early_end > 0.5);
+    }
+
+    /// Border usage as `play_group` counts it equals a recount from the game states: for
+    /// every game (the same deals and policy seeds), replay it and look where each moved
+    /// card lies after its move. Over random play on 9c and 16c, 2 and 4 players.
+    #[test]
+    fn border_moves_are_the_moved_cards_that_land_on_the_outer_ring() {
+        for name in ["9c-2p-perfect", "9c-4p-perfect", "16c-2p-perfect"] {
+            let config = Config::resolve(name).unwrap();
+            let make = |seed| PolicySpec::Random.build(seed);
+            let seats: Vec<&PolicyFactory<'_>> = vec![&make; config.players()];
+            let (games, seed) = (300u64, 11u64);
+            let got = play_group(config, &seats, games, seed, &|_| {}).unwrap();
+            let (mut moves, mut border) = (0u64, 0u64);
+            let edge = config.grid() as u8 - 1;
+            for i in 0..games {
+                let chunk = i / CHUNK;
+                let mut policies: Vec<Box<dyn Policy>> = (0..config.players())
+                    .map(|s| make(derive_seed(seed ^ 0x5eed_5eed, (chunk << 8) | s as u64)))
+                    .collect();
+                // A chunk's policies play its games in order: replay the chunk up to game i.
+                let mut record = None;
+                for j in chunk * CHUNK..=i {
+                    let e = play_episode(
+                        config,
+                        derive_seed(seed, j),
+                        derive_seed(!seed, j),
+                        &mut policies,
+                    )
+                    .unwrap();
+                    record = Some(e.record);
+                }
+                let mut game = yokai_engine::Game::new(config, derive_seed(seed, i));
+                for &a in &record.unwrap().actions {
+                    let action = config.decode(a as usize).unwrap();
+                    game.apply(action).unwrap();
+                    if let yokai_engine::Action::Move(card, _) = action {
+                        let cell = game.cell_of(card);
+                        moves += 1;
+                        border += [cell.row, cell.col].iter().any(|&x| x == 0 || x == edge) as u64;
+                    }
+                }
+            }
+            assert_eq!(
+                (got.card_moves, got.border_moves),
+                (moves, border),
+                "{name}"
+            );
+            assert!(moves > games, "{name}: random play moves cards");
+            if name == "9c-2p-perfect" {
+                assert!(border > 0, "random play reaches the border now and then");
+            }
+        }
     }
 
     /// Sets of distinct policies: every combination while there are few, a seeded sample

@@ -464,6 +464,36 @@ pub fn report(
             out += "\n";
         }
     }
+    out += &border_usage(names, results, config.grid());
+    out
+}
+
+/// The paper's border-usage diagnostic: how often card moves land on the grid's outer ring,
+/// per self-play and cross-play entry. The grid (g × g) cuts the real game's unbounded table
+/// short there, so frequent use would mean the policies play a game the grid changes.
+fn border_usage(names: &[String], results: &[PairResult], grid: usize) -> String {
+    let mut out = format!(
+        "\n## Border usage\n\nCard moves per game, and those onto the grid's outer ring (row or \
+         column 0 or {}).\n\n| policy or pair | card moves per game | onto the border per game | \
+         share of moves % |\n|---|---|---|---|\n",
+        grid - 1
+    );
+    for c in results {
+        let (Some(moves), Some(border)) = (c.metrics.card_moves, c.metrics.border_moves) else {
+            continue;
+        };
+        let who = if c.row == c.col {
+            names[c.row].clone()
+        } else {
+            format!("{} + {}", names[c.row], names[c.col])
+        };
+        let share = if moves > 0.0 {
+            format!("{:.2}", 100.0 * border / moves)
+        } else {
+            "–".into()
+        };
+        out += &format!("| {who} | {moves:.2} | {border:.3} | {share} |\n");
+    }
     out
 }
 

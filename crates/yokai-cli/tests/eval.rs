@@ -39,9 +39,24 @@ fn outputs_land_in_the_directory() {
         serde_json::from_str(&std::fs::read_to_string(dir.join("matrix.json")).unwrap()).unwrap();
     assert_eq!(json.as_array().unwrap().len(), 3);
     assert_eq!(json[1]["metrics"]["games"], 100);
-    assert!(std::fs::read_to_string(dir.join("report.md"))
-        .unwrap()
-        .starts_with("# Evaluation"));
+    let report = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    assert!(report.starts_with("# Evaluation"));
+    // The border-usage diagnostic: one row per entry, from the metrics in matrix.json.
+    let border = &report[report.find("## Border usage").expect("the section")..];
+    let m = &json[1]["metrics"];
+    let want = format!(
+        "| greedy + random | {:.2} | {:.3} |",
+        m["card_moves"].as_f64().unwrap(),
+        m["border_moves"].as_f64().unwrap()
+    );
+    assert!(border.contains(&want), "{want} in {border}");
+    assert_eq!(
+        border
+            .lines()
+            .filter(|l| l.starts_with("| greedy") || l.starts_with("| random"))
+            .count(),
+        3
+    );
 }
 
 #[test]
@@ -209,6 +224,8 @@ fn three_seats_play_sets_of_three_distinct_seeds_as_the_papers_cross_play() {
     let sets: Vec<&str> = text
         .lines()
         .skip_while(|l| !l.starts_with("## Cross-play of 3 distinct seeds"))
+        .skip(1)
+        .take_while(|l| !l.starts_with("## "))
         .filter(|l| l.starts_with("| ") && l.contains(" + "))
         .collect();
     assert_eq!(sets.len(), 1, "{text}");

@@ -1,5 +1,7 @@
 //! Metrics of a set of finished games (RULES §7).
 
+use crate::action::Action;
+use crate::config::Config;
 use crate::scoring::Outcome;
 use serde::{Deserialize, Serialize};
 
@@ -15,6 +17,15 @@ pub struct MetricsAccumulator {
     pub length_sum: u64,
     pub correct_sum: u64,
     pub wrong_sum: u64,
+    /// Card moves (MOVE actions) of the games whose actions were counted
+    /// ([`MetricsAccumulator::add_moves`]), and those onto the grid's outer ring.
+    #[serde(default)]
+    pub card_moves: u64,
+    #[serde(default)]
+    pub border_moves: u64,
+    /// Games whose actions were counted.
+    #[serde(default)]
+    pub games_with_moves: u64,
 }
 
 /// The paper's metrics of a set of games.
@@ -36,6 +47,13 @@ pub struct Metrics {
     pub length: f64,
     pub correct_hints: f64,
     pub wrong_hints: f64,
+    /// Card moves per game, and of them how many land on the grid's outer ring (row or
+    /// column 0 or g−1; the paper's border-usage diagnostic, its appendix "Playing Yōkai on
+    /// a grid"); `None` where the games' actions were not counted.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub card_moves: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub border_moves: Option<f64>,
 }
 
 impl MetricsAccumulator {
@@ -51,6 +69,23 @@ impl MetricsAccumulator {
         self.wrong_sum += o.wrong_hints as u64;
     }
 
+    /// Count the card moves of one game from its action indices (an episode record's
+    /// `actions`), and those onto the grid's border. Why the border: the grid is finite (9×9
+    /// for 9 cards) while the real game's table is not, so a policy that used the border a
+    /// lot would be playing a game the grid cuts short. Indices outside the action space
+    /// are not moves.
+    pub fn add_moves(&mut self, config: &Config, actions: &[u16]) {
+        let edge = config.grid() - 1;
+        self.games_with_moves += 1;
+        for &a in actions {
+            if let Ok(Action::Move(_, cell)) = config.decode(a as usize) {
+                self.card_moves += 1;
+                let on_border = |x: u8| x == 0 || x as usize == edge;
+                self.border_moves += (on_border(cell.row) || on_border(cell.col)) as u64;
+            }
+        }
+    }
+
     pub fn merge(&mut self, other: &MetricsAccumulator) {
         self.games += other.games;
         self.reward_sum += other.reward_sum;
@@ -61,6 +96,9 @@ impl MetricsAccumulator {
         self.length_sum += other.length_sum;
         self.correct_sum += other.correct_sum;
         self.wrong_sum += other.wrong_sum;
+        self.card_moves += other.card_moves;
+        self.border_moves += other.border_moves;
+        self.games_with_moves += other.games_with_moves;
     }
 
     /// The metrics; `None` for an empty set of games.
@@ -87,6 +125,10 @@ impl MetricsAccumulator {
             length: self.length_sum as f64 / n,
             correct_hints: self.correct_sum as f64 / n,
             wrong_hints: self.wrong_sum as f64 / n,
+            card_moves: (self.games_with_moves > 0)
+                .then(|| self.card_moves as f64 / self.games_with_moves as f64),
+            border_moves: (self.games_with_moves > 0)
+                .then(|| self.border_moves as f64 / self.games_with_moves as f64),
         })
     }
 }
@@ -151,5 +193,36 @@ mod tests {
             .unwrap();
         assert_eq!(m.win_given_early_end, None);
         assert!(MetricsAccumulator::default().metrics().is_none());
+    }
+
+    #[test]
+    fn card_moves_onto_the_grids_outer_ring_are_border_moves() {
+        use crate::bitboard::Cell;
+        use crate::types::Card;
+        let config = Config::from_name("9c-2p-perfect").unwrap();
+        assert_eq!(config.grid(), 9);
+        let mv = |row, col| config.encode(Action::Move(Card(2), Cell::new(row, col))) as u16;
+        let observe = config.encode(Action::Observe(Card(1))) as u16;
+        let mut acc = MetricsAccumulator::default();
+        // Top row, centre, right column, bottom-left corner; observing is no move.
+        acc.add_moves(&config, &[observe, mv(0, 4), mv(4, 4), mv(4, 8), mv(8, 0)]);
+        acc.add(&outcome(1, true, false, 5));
+        let mut other = MetricsAccumulator::default();
+        other.add_moves(&config, &[mv(1, 1), observe, u16::MAX]); // inside; out of range
+        other.add(&outcome(1, true, false, 3));
+        acc.merge(&other);
+        assert_eq!(
+            (acc.card_moves, acc.border_moves, acc.games_with_moves),
+            (5, 3, 2)
+        );
+        let m = acc.metrics().unwrap();
+        assert_eq!((m.card_moves, m.border_moves), (Some(2.5), Some(1.5)));
+        // Games whose actions were not counted have no figure (and serialise without one).
+        let uncounted = [outcome(1, true, false, 3)]
+            .iter()
+            .collect::<MetricsAccumulator>();
+        let m = uncounted.metrics().unwrap();
+        assert_eq!(m.border_moves, None);
+        assert!(!serde_json::to_string(&m).unwrap().contains("border"));
     }
 }
