@@ -90,11 +90,11 @@ def test_seeds_and_sweep_files_parse(tmp_path):
 
 
 def test_progress_lines_read_the_runs_files(tmp_path):
-    row = sweep.Row("tiny.toml", (0,), tmp_path)
-    run = tmp_path / "seed-0"
+    row = sweep.Row("tiny.toml", (0,), tmp_path / "tiny")
+    run = tmp_path / "tiny" / "seed-0"
     started = {}
     assert sweep.progress_line(row, 0, started) == "tiny seed 0: waiting"
-    run.mkdir()
+    run.mkdir(parents=True)
     (run / "config.toml").write_text("[ppo]\ntotal_steps = 1000\n")
     # An update in which no training game ended logs "games": null.
     (run / "metrics.jsonl").write_text(json.dumps({"update": 3, "env_steps": 192, "games": None}) + "\n")
@@ -105,6 +105,14 @@ def test_progress_lines_read_the_runs_files(tmp_path):
     assert line.startswith("tiny seed 0: update 6, steps 384/1,000, R -2.50, ETA "), line
     (run / sweep.DONE).write_text("")
     assert sweep.progress_line(row, 0, started) == "tiny seed 0: finished"
+    # OBL levels: the line is the first unfinished level's.
+    obl = sweep.Row("obl.toml", (0,), tmp_path / "obl", levels=(1, 2))
+    (obl.out / "level-1" / "seed-0").mkdir(parents=True)
+    (obl.out / "level-1" / "seed-0" / sweep.DONE).write_text("")
+    assert sweep.progress_line(obl, 0, started) == "obl seed 0 level 2: waiting"
+    (obl.out / "level-2" / "seed-0").mkdir(parents=True)
+    (obl.out / "level-2" / "seed-0" / sweep.DONE).write_text("")
+    assert sweep.progress_line(obl, 0, started) == "obl seed 0: finished"
 
 
 def _sweep(config, out, *more):

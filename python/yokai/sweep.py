@@ -211,7 +211,8 @@ def _total_steps(run: pathlib.Path) -> int | None:
 def progress_line(row: Row, seed: int, started: dict) -> str:
     """``seed N: update U, steps S/T, R r, ETA`` from the run's own files (of the level it
     is on, for OBL)."""
-    name = f"{config_name(row.config)} seed {seed}"
+    # Rows are told apart by their directory: several may share a config.
+    name = f"{row.out.name} seed {seed}"
     runs = row.runs()
     level = next((i for i, r in enumerate(runs) if not (r / f"seed-{seed}" / DONE).exists()), None)
     if level is None:
