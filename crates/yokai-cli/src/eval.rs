@@ -574,6 +574,35 @@ pub fn write_outputs(
         )?;
         pictures.push(("learning curves: return", "learning_return.png"));
         pictures.push(("learning curves: SEE", "learning_see.png"));
+        // OBL levels ≥ 2: how much their belief models know beyond first-hand facts.
+        let mut gain = Vec::new();
+        for (name, run) in &runs {
+            let Some(curve) = yokai_train::read_belief_metrics(run)? else {
+                continue;
+            };
+            let raw: Vec<(f64, f64)> = curve
+                .iter()
+                .enumerate()
+                .map(|(k, b)| ((k + 1) as f64, b.uniform_cross_entropy - b.cross_entropy))
+                .collect();
+            gain.push(plots::Series {
+                label: name.clone(),
+                points: plots::smooth(&raw, (raw.len() / 25).max(1)),
+            });
+        }
+        if !gain.is_empty() {
+            plots::write_both(
+                dir,
+                "learning_belief",
+                &plots::lines_svg(
+                    "Belief model: first-hand baseline minus its cross-entropy (above 0: it reads the level below)",
+                    "updates",
+                    "nats per unseen card",
+                    &gain,
+                ),
+            )?;
+            pictures.push(("learning curves: belief model", "learning_belief.png"));
+        }
     }
     let report = report(config, names, results, games, groups, &pictures);
     let summary = EvalSummary {

@@ -133,12 +133,14 @@ pub fn lines_svg(title: &str, x_label: &str, y_label: &str, series: &[Series]) -
         w - left - right,
         h - top - bottom
     );
+    // Enough decimals that the five y labels differ (a belief's 0.015-nat steps need 3).
+    let digits = (2.0f64).max((-((y1 - y0) / 4.0).log10()).ceil() + 1.0) as usize;
     for k in 0..=4 {
         let y = y0 + (y1 - y0) * k as f64 / 4.0;
         let x = x0 + (x1 - x0) * k as f64 / 4.0;
         let _ = writeln!(
             s,
-            "<text x=\"{}\" y=\"{}\" text-anchor=\"end\">{y:.2}</text>\
+            "<text x=\"{}\" y=\"{}\" text-anchor=\"end\">{y:.digits$}</text>\
              <line x1=\"{left}\" x2=\"{}\" y1=\"{py}\" y2=\"{py}\" stroke=\"#eee\"/>\
              <text x=\"{}\" y=\"{}\" text-anchor=\"middle\">{}</text>",
             left - 6.0,

@@ -574,6 +574,15 @@ fn train_obl_levels_in_sequence() {
             "level {level}: the belief's figures are logged from level 2 on"
         );
         assert!(out.join(format!("level-{level}/eval/report.md")).exists());
+        // The belief model's curve is drawn for level 2 (one line per seed), not level 1.
+        let belief = out.join(format!("level-{level}/eval/learning_belief.svg"));
+        assert_eq!(belief.exists(), level == 2, "level {level}");
+        if level == 2 {
+            let curve = std::fs::read_to_string(&belief).unwrap();
+            assert_eq!(curve.matches("class=\"series\"").count(), 1, "{curve}");
+            let report = std::fs::read_to_string(out.join("level-2/eval/report.md")).unwrap();
+            assert!(report.contains("(learning_belief.png)"), "{report}");
+        }
     }
     let level_two = std::fs::read_to_string(out.join("level-2/seed-0/config.toml")).unwrap();
     assert!(

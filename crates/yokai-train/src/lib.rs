@@ -53,6 +53,6 @@ pub use network::{
     TransformerXl,
 };
 pub use policy::{NetworkPolicy, TrainedPolicy};
-pub use run::{read_metrics, train_run, RunRequest, RunSummary};
+pub use run::{read_belief_metrics, read_metrics, train_run, RunRequest, RunSummary};
 pub use source::{EndRule, PolicySource, SourceError};
 pub use trainer::{Trainer, UpdateStats};

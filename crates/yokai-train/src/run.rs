@@ -20,6 +20,7 @@ use crate::backend::Backend;
 use crate::config::TrainConfig;
 use crate::error::TrainError;
 use crate::network::{for_network, Encoder, NetworkJob, Recurrent};
+use crate::obl::learn::BeliefStats;
 use crate::trainer::{Trainer, UpdateStats};
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -259,6 +260,28 @@ fn truncate_metrics(path: &Path, update: u64) -> Result<(), TrainError> {
     write(path, &kept)
 }
 
+/// Read a run's belief curve (`belief.jsonl`, OBL levels ≥ 2): each update's figures in
+/// order; `None` for a run without one.
+pub fn read_belief_metrics(dir: &Path) -> Result<Option<Vec<BeliefStats>>, TrainError> {
+    let path = dir.join(BELIEF_METRICS);
+    if !path.exists() {
+        return Ok(None);
+    }
+    let text = std::fs::read_to_string(&path).map_err(|e| io(&path, e))?;
+    text.lines()
+        .enumerate()
+        .filter(|(_, l)| !l.trim().is_empty())
+        .map(|(i, l)| {
+            serde_json::from_str(l).map_err(|source| TrainError::Json {
+                path: format!("{}:{}", path.display(), i + 1),
+                what: "belief curve line",
+                source,
+            })
+        })
+        .collect::<Result<Vec<_>, _>>()
+        .map(Some)
+}
+
 /// Read a run's metrics log.
 pub fn read_metrics(dir: &Path) -> Result<Vec<UpdateStats>, TrainError> {
     let path = dir.join(METRICS);
@@ -274,4 +297,32 @@ pub fn read_metrics(dir: &Path) -> Result<Vec<UpdateStats>, TrainError> {
             })
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_belief_curve_reads_back_and_a_broken_line_names_its_place() {
+        let dir = tempfile::tempdir().unwrap();
+        assert_eq!(read_belief_metrics(dir.path()).unwrap(), None);
+        let stats = BeliefStats {
+            cross_entropy: 0.7,
+            uniform_cross_entropy: 0.75,
+            uniform_kl: 0.03,
+            slots: 12,
+        };
+        let mut line = serde_json::to_value(stats).unwrap();
+        line["update"] = serde_json::json!(1);
+        let path = dir.path().join(BELIEF_METRICS);
+        std::fs::write(&path, format!("{line}\n")).unwrap();
+        assert_eq!(read_belief_metrics(dir.path()).unwrap(), Some(vec![stats]));
+        std::fs::write(&path, format!("{line}\n{{\"cross_entropy\": \"x\"}}\n")).unwrap();
+        let e = read_belief_metrics(dir.path()).unwrap_err().to_string();
+        assert!(
+            e.contains("belief.jsonl:2") && e.contains("belief curve line"),
+            "{e}"
+        );
+    }
 }

@@ -71,7 +71,7 @@ impl BeliefTrainConfig {
 
 /// One update's figures (or several updates', [`BeliefStats::mean`]), in nats per unseen
 /// card. A level ≥ 2 run logs every update's in `RUN/belief.jsonl`.
-#[derive(Clone, Copy, Debug, Default, serde::Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct BeliefStats {
     /// The model's cross-entropy of the true colours.
     pub cross_entropy: f64,
