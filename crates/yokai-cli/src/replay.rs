@@ -1,7 +1,7 @@
 //! `yokai replay FILE`: step through a saved game in the terminal, or render every turn as
 //! an SVG or PNG picture.
 
-use crate::svg::render_turn;
+use crate::svg::{render_sheet, render_turn, turns};
 use anyhow::{bail, Context};
 use std::io::{BufRead, IsTerminal, Write};
 use std::path::{Path, PathBuf};
@@ -21,6 +21,11 @@ pub struct Args {
     /// Write one PNG per turn (rendered from the SVG; text needs a system font).
     #[arg(long)]
     png: Option<PathBuf>,
+    /// Write the whole game on one picture, as the paper draws its example games: a column
+    /// per turn with the seat's actions, the true board above and that seat's view below.
+    /// An SVG, or a PNG where the path ends in `.png`.
+    #[arg(long, value_name = "FILE")]
+    sheet: Option<PathBuf>,
 }
 
 pub fn read(path: &Path) -> anyhow::Result<Replay> {
@@ -58,6 +63,41 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             states.len() - 1
         )
     };
+    if let Some(path) = &args.sheet {
+        let outcome = match states.last().and_then(|(g, _)| g.outcome()) {
+            Some(o) => format!(
+                "R = {}, {}",
+                o.reward,
+                if o.won { "won" } else { "not won" }
+            ),
+            None => "not finished".into(),
+        };
+        let title = format!(
+            "{config} · {} · {outcome} in {} steps",
+            replay.header.seats.join(" + "),
+            states.len() - 1
+        );
+        let turns = turns(&states);
+        if turns.is_empty() {
+            bail!("{} has no actions to draw", args.file.display());
+        }
+        let svg = render_sheet(&turns, &title);
+        let bytes = if path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("png"))
+        {
+            crate::plots::png(&svg, crate::plots::system_fonts())?
+        } else {
+            svg.into_bytes()
+        };
+        std::fs::write(path, bytes).with_context(|| format!("cannot write {}", path.display()))?;
+        eprintln!(
+            "wrote the game's {} turns to {}",
+            turns.len(),
+            path.display()
+        );
+        return Ok(());
+    }
     let dirs: Vec<(&PathBuf, &str)> = [(&args.svg, "svg"), (&args.png, "png")]
         .into_iter()
         .filter_map(|(dir, kind)| dir.as_ref().map(|d| (d, kind)))

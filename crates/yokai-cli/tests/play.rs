@@ -157,6 +157,37 @@ fn scripted_line_mode_game_finishes_and_saves_a_replay_that_renders() {
         );
     }
     assert_eq!(std::fs::read_dir(&png_dir).unwrap().count(), steps + 1);
+    // The whole game on one sheet: a column per turn, each with the 9 cards twice (truth
+    // and view), the outcome in its title; as SVG and as PNG.
+    let sheet = dir.join("sheet.svg");
+    let out = yokai(&[
+        "replay",
+        save.to_str().unwrap(),
+        "--sheet",
+        sheet.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", text(&out));
+    let svg = std::fs::read_to_string(&sheet).unwrap();
+    let turns = svg.matches("<g class=\"turn\"").count();
+    assert!(
+        turns >= 2 && turns <= steps,
+        "{turns} turns for {steps} steps"
+    );
+    assert_eq!(svg.matches("class=\"card truth\"").count(), 9 * turns);
+    assert_eq!(svg.matches("class=\"card view\"").count(), 9 * turns);
+    assert!(
+        svg.contains(&format!("in {steps} steps")),
+        "the title says the outcome"
+    );
+    let png = dir.join("sheet.png");
+    let out = yokai(&[
+        "replay",
+        save.to_str().unwrap(),
+        "--sheet",
+        png.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", text(&out));
+    assert!(resvg::tiny_skia::Pixmap::decode_png(&std::fs::read(&png).unwrap()).is_ok());
     // Text mode prints every state.
     let out =
         String::from_utf8(yokai_ok(&["replay", save.to_str().unwrap(), "--seat", "1"])).unwrap();
