@@ -4,8 +4,9 @@
 //!
 //! A record set is a dict of arrays, one row per (episode, step, recorded seat):
 //! `states` float32 `[N, H]`, `colours` uint8 `[N, Y]` (every card's true colour), `seen`
-//! bool `[N, Y]` (cards the seat has observed itself), `steps` `[N]` (0 = the first state)
-//! and `episodes` `[N]`.
+//! bool `[N, Y]` (cards the seat has observed itself), `steps` `[N]` (0 = the first state),
+//! `episodes` `[N]`, and optionally `cells` `[N, Y]` (the board position, row-major over the
+//! g × g grid, each card lies on; needed for probes by position).
 
 use crate::errors::config_error;
 use numpy::ndarray::Array2;
@@ -15,7 +16,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::Path;
 use yokai_engine::{Card, Config};
-use yokai_train::probe::{evaluate, fit, record, Records, StepAccuracy};
+use yokai_train::probe::{evaluate, fit, record, Records, StepAccuracy, Target};
 use yokai_train::TrainedPolicy;
 
 /// Play ``games`` games with the trained policies ``policies`` (one path per seat: policy
@@ -79,23 +80,35 @@ pub fn probe_records<'py>(
     to_dict(py, &game, records)
 }
 
-/// Fit one linear probe per card on the record set ``records`` (episodes whose index is not
-/// a multiple of 5: 80 %) and report its accuracy per game step on the other episodes, or
-/// on all of ``test`` when given (e.g. cross-play records of the same policy). Returns a
+/// Fit linear probes on the record set ``records`` (episodes whose index is not a multiple
+/// of 5: 80 %), one per card (``by="card"``) or one per board position that holds a card
+/// in at least 50 training rows (``by="position"``, the paper's probes; the records need
+/// ``cells``), and report their accuracy per game step on the other episodes, or on all
+/// of ``test`` when given (e.g. cross-play records of the same policy). Returns a
 /// dict of arrays, one entry per step with at least ``min_rows`` rows: ``step``, ``all``
 /// and ``oracle_all`` (share of cards named right by the probe and by the perfect-memory
 /// oracle), ``unseen`` and ``oracle_unseen`` (the same over cards the seat has not seen;
 /// NaN where it has seen all), ``rows``; and ``chance`` (1 / colours).
 #[pyfunction]
-#[pyo3(signature = (config, records, test=None, min_rows=20))]
+#[pyo3(signature = (config, records, test=None, min_rows=20, by="card"))]
 pub fn probe_accuracy<'py>(
     py: Python<'py>,
     config: &str,
     records: &Bound<'py, PyDict>,
     test: Option<&Bound<'py, PyDict>>,
     min_rows: usize,
+    by: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
     let game = Config::resolve(config).map_err(config_error)?;
+    let target = match by {
+        "card" => Target::Card,
+        "position" => Target::Position,
+        _ => {
+            return Err(PyValueError::new_err(format!(
+                "by is \"card\" or \"position\", not {by:?}"
+            )))
+        }
+    };
     let train = from_dict(&game, records, "records")?;
     if train.is_empty() {
         return Err(PyValueError::new_err("records holds no rows"));
@@ -109,13 +122,24 @@ pub fn probe_accuracy<'py>(
             )));
         }
     }
-    let steps = py.detach(|| {
-        let probes = fit(&game, &train, |e| e % 5 != 0);
-        match &other {
-            Some(other) => evaluate(&game, &probes, other, |_| true, min_rows),
-            None => evaluate(&game, &probes, &train, |e| e % 5 == 0, min_rows),
+    if target == Target::Position {
+        for (name, r) in [("records", Some(&train)), ("test", other.as_ref())] {
+            if r.is_some_and(|r| r.cells.is_empty()) {
+                return Err(PyValueError::new_err(format!(
+                    "by=\"position\" needs the cards' positions: {name} has no \"cells\" array"
+                )));
+            }
         }
-    });
+    }
+    let steps = py
+        .detach(|| {
+            let probes = fit(&game, &train, |e| e % 5 != 0, target)?;
+            Ok::<_, yokai_train::probe::ProbeError>(match &other {
+                Some(other) => evaluate(&game, &probes, other, |_| true, min_rows),
+                None => evaluate(&game, &probes, &train, |e| e % 5 == 0, min_rows),
+            })
+        })
+        .map_err(|e| PyValueError::new_err(e.to_string()))?;
     accuracy_dict(py, &game, &steps)
 }
 
@@ -125,6 +149,8 @@ fn to_dict<'py>(py: Python<'py>, game: &Config, r: Records) -> PyResult<Bound<'p
     let states = Array2::from_shape_vec((n, r.hidden), r.states).expect("rows × width");
     let colours = Array2::from_shape_vec((n, y), r.colours).expect("rows × cards");
     let seen = Array2::from_shape_fn((n, y), |(i, k)| r.seen[i].contains(Card(k as u8)));
+    let cells = Array2::from_shape_vec((n, y), r.cells).expect("rows × cards");
+    out.set_item("cells", cells.into_pyarray(py))?;
     out.set_item("states", states.into_pyarray(py))?;
     out.set_item("colours", colours.into_pyarray(py))?;
     out.set_item("seen", seen.into_pyarray(py))?;
@@ -198,6 +224,29 @@ fn from_dict(game: &Config, d: &Bound<'_, PyDict>, what: &str) -> PyResult<Recor
             "steps must lie in 0..=65535 and episodes in 0..2³²".into()
         ));
     }
+    let cells = match d.get_item("cells")? {
+        None => Vec::new(),
+        Some(cells) => {
+            let cells: PyReadonlyArray2<i64> = cells
+                .call_method1("astype", ("int64",))?
+                .extract()
+                .map_err(|_| bad("cells must be a 2-D array [rows, cards]".into()))?;
+            if cells.shape() != [n, y] {
+                return Err(bad(format!(
+                    "cells has shape {:?}, expected [{n}, {y}] (rows of states × cards of {game})",
+                    cells.shape()
+                )));
+            }
+            let count = game.geometry().cells() as i64;
+            let cells: Vec<i64> = cells.as_array().iter().copied().collect();
+            if let Some(c) = cells.iter().find(|&&c| !(0..count).contains(&c)) {
+                return Err(bad(format!(
+                    "cell {c} is not on {game}'s board (cells 0..{count})"
+                )));
+            }
+            cells.iter().map(|&c| c as u8).collect()
+        }
+    };
     let states = states.as_array().iter().copied().collect::<Vec<f32>>();
     if states.iter().any(|v| !v.is_finite()) {
         return Err(bad("states hold NaN or infinite values".into()));
@@ -207,6 +256,7 @@ fn from_dict(game: &Config, d: &Bound<'_, PyDict>, what: &str) -> PyResult<Recor
         hidden,
         states,
         colours,
+        cells,
         seen: (0..n)
             .map(|i| {
                 (0..y)

@@ -64,6 +64,22 @@ def test_records_of_a_trained_policy_round_trip_through_npz(run_dir, tmp_path): 
     assert all(np.array_equal(direct[k], saved[k], equal_nan=True) for k in direct if k != "chance")
     cross = yokai.probe_accuracy("9c-2p-perfect", records, test=records, min_rows=5)
     assert cross["rows"][0] == 60
+    # Where each card lies: the deal's 3 × 3 square in the middle of the 9 × 9 grid at the
+    # first state, and probes by position read those positions.
+    cells = records["cells"]
+    assert cells.shape == (n, CARDS)
+    middle = {r * 9 + c for r in range(3, 6) for c in range(3, 6)}
+    assert all(set(row) == middle for row in cells[first])
+    by_position = yokai.probe_accuracy("9c-2p-perfect", loaded, min_rows=5, by="position")
+    assert by_position["rows"][0] == 12  # the held-out games (0, 5, …, 25), both seats
+    assert 0 <= by_position["all"].min() and by_position["all"].max() <= 1
+    with pytest.raises(ValueError, match='by is "card" or "position"'):
+        yokai.probe_accuracy("9c-2p-perfect", records, by="cell")
+    without = {k: v for k, v in records.items() if k != "cells"}
+    with pytest.raises(ValueError, match='needs the cards\' positions: records has no "cells"'):
+        yokai.probe_accuracy("9c-2p-perfect", without, by="position")
+    with pytest.raises(ValueError, match="cell 81 is not on 9c-2p-perfect's board"):
+        yokai.probe_accuracy("9c-2p-perfect", dict(records, cells=np.full_like(cells, 81)), by="position")
 
 
 def test_bad_records_name_what_is_wrong():

@@ -1,12 +1,13 @@
-//! `yokai probe`: linear probes of card colours in trained policies' memories, step by step
-//! through a game, in self-play (held-out episodes) and with other partners.
+//! `yokai probe`: linear probes of the colours on the board in trained policies' memories
+//! (per board position, as the paper, or per card id), step by step through a game, in
+//! self-play (held-out episodes) and with other partners.
 
 use crate::plots::{self, Series};
 use anyhow::Context;
 use std::fmt::Write as _;
 use std::path::PathBuf;
 use yokai_train::probe::study::{Setting, Study, StudyError};
-use yokai_train::probe::StepAccuracy;
+use yokai_train::probe::{StepAccuracy, Target};
 use yokai_train::TrainedPolicy;
 
 #[derive(clap::Args)]
@@ -15,20 +16,32 @@ pub struct Args {
     #[arg(required = true)]
     runs: Vec<PathBuf>,
     /// Partners for cross-play (trained runs): each probed run's memory is read in games
-    /// with each partner, both seatings, by the probes fitted on its self-play.
+    /// with each partner in every other seat, the run in each seat in turn, by the probes
+    /// fitted on its self-play.
     #[arg(long, num_args = 1..)]
     partners: Vec<PathBuf>,
     /// Self-play games per run (80 % of episodes fit the probes, 20 % test them) and games
-    /// per seating with each partner; at least 50. Steps that fewer than 20 seat states
-    /// reach (late steps of short games) are left out.
-    #[arg(long, default_value_t = 500)]
+    /// per seating with each partner; at least 50 (the paper: 5,000). Steps that fewer
+    /// than 20 seat states reach (late steps of short games) are left out.
+    #[arg(long, default_value_t = 5000)]
     games: usize,
+    /// What each probe names: `position` (the colour of the card on each board position
+    /// that cards reach often enough, as the paper) or `card` (each card id's colour,
+    /// wherever it lies).
+    #[arg(long, value_enum, default_value_t = By::Position)]
+    by: By,
     /// Seed of the deals and of the actions sampled.
     #[arg(long, default_value_t = 0)]
     seed: u64,
     /// Where probe.csv, probe.json and probe.svg/png go.
     #[arg(short, long, default_value = "runs/probe")]
     out: PathBuf,
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum By {
+    Position,
+    Card,
 }
 
 /// One probed setting's curve, named for the report.
@@ -42,10 +55,15 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let load = |path: &PathBuf| TrainedPolicy::load(path).map_err(anyhow::Error::from);
     let runs: Vec<TrainedPolicy> = args.runs.iter().map(load).collect::<Result<_, _>>()?;
     let partners: Vec<TrainedPolicy> = args.partners.iter().map(load).collect::<Result<_, _>>()?;
-    let study = Study::new(&runs, &partners, args.games, args.seed).map_err(|e| match e {
-        StudyError::TooFewGames { .. } => anyhow::Error::from(e).context("--games"),
-        e => e.into(),
-    })?;
+    let (target, what) = match args.by {
+        By::Position => (Target::Position, "board position"),
+        By::Card => (Target::Card, "card"),
+    };
+    let study =
+        Study::new(&runs, &partners, args.games, args.seed, target).map_err(|e| match e {
+            StudyError::TooFewGames { .. } => anyhow::Error::from(e).context("--games"),
+            e => e.into(),
+        })?;
     // One game for every run and partner: one chance level, one plot.
     let game = *study.game();
     let curves: Vec<Curve> = study
@@ -160,14 +178,15 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         &serde_json::to_string_pretty(&json).expect("json values serialise"),
     )?;
     let svg = plots::lines_svg(
-        "Linear probes: colours of unseen cards read from the memory",
+        &format!("Linear probes by {what}: colours of unopened cards read from the memory"),
         "game step",
         "accuracy",
         &series,
     );
     plots::write_both(&args.out, "probe", &svg)?;
     println!(
-        "Linear probes of card colours (mean over game steps; chance {:.1} %; {} games)\n\n{table}",
+        "Linear probes of the colours on the board by {what} (mean over game steps; \"unseen\": \
+         cards the seat has not opened; chance {:.1} %; {} games)\n\n{table}",
         100.0 * chance,
         args.games
     );

@@ -1,11 +1,13 @@
-//! Linear probes of card colours in a trained policy's recurrent state (the paper's
-//! appendix "probing" figure): how well a linear read-out of the memory names each card's
-//! colour, step by step through a game, in self-play and with other partners, for all cards
-//! and for the cards the seat has not seen itself.
+//! Linear probes of card colours in a trained policy's recurrent state (the paper's §5.3
+//! "probing" figure): how well a linear read-out of the memory names the colours on the
+//! board, step by step through a game, in self-play and with other partners, for all cards
+//! and for the cards the seat has not seen itself ("unopened").
 //!
 //! - [`record`] plays games with trained networks in the seats and keeps, for the seats asked
-//!   for, the memory after every step with the true colours and what the seat has seen.
-//! - [`LinearProbe`] (one per card id) is fitted on the memories of some episodes and
+//!   for, the memory after every step with the true colours, where each card lies and what
+//!   the seat has seen.
+//! - A [`LinearProbe`] per board position (the paper's probes: the colour of whatever card
+//!   lies there) or per card id ([`Target`]) is fitted on the memories of some episodes and
 //!   [`evaluate`]d on others, against chance and the *perfect-memory oracle*: a reader that
 //!   knows every colour the seat saw and, for the others, names the colour with the most
 //!   cards left (what first-hand memory and the counts allow without any inference from
@@ -31,6 +33,10 @@ pub struct Records {
     pub states: Vec<f32>,
     /// `[rows × Y]`: every card's true colour.
     pub colours: Vec<u8>,
+    /// `[rows × Y]`: the board position (cell index, row-major over the g × g grid) each
+    /// card lies on. Empty where the records were made without positions (then only
+    /// per-card probes can be fitted).
+    pub cells: Vec<u8>,
     /// Per row: the cards the seat has observed itself.
     pub seen: Vec<CardSet>,
     /// Per row: the game step (0 = the first state) and the episode index.
@@ -50,6 +56,7 @@ impl Records {
         assert_eq!(self.hidden, other.hidden, "records of one memory width");
         self.states.extend(other.states);
         self.colours.extend(other.colours);
+        self.cells.extend(other.cells);
         self.seen.extend(other.seen);
         self.steps.extend(other.steps);
         self.episodes.extend(other.episodes);
@@ -115,6 +122,9 @@ pub fn record(
                         out.states.extend_from_slice(&new[k * h..][..h]);
                         out.colours
                             .extend((0..y).map(|c| game.colour_of(Card(c as u8)).0));
+                        let cells = game.config().geometry();
+                        out.cells
+                            .extend((0..y).map(|c| cells.index(game.cell_of(Card(c as u8))) as u8));
                         out.seen.push(game.ever_observed(Seat(s as u8)));
                         out.steps.push(step);
                         out.episodes.push((first + g) as u32);
@@ -138,32 +148,89 @@ pub fn record(
     out
 }
 
-/// One probe per card id, fitted on the rows of `records` whose episode `train` accepts.
-pub fn fit(game: &Config, records: &Records, train: impl Fn(u32) -> bool) -> Vec<LinearProbe> {
+/// What each probe names: one card id's colour, wherever it lies, or the colour of the card
+/// on one board position (the paper's probes: positions are what a player sees, and cards
+/// move between them).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Target {
+    Card,
+    Position,
+}
+
+/// Why probes cannot be fitted.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum ProbeError {
+    #[error("probes by board position need the cards' positions, and these records have none")]
+    NoPositions,
+}
+
+/// Board positions need this many training rows with a card on them to get a probe (the
+/// grid's far cells are rarely reached).
+pub const MIN_POSITION_ROWS: usize = 50;
+
+/// The fitted probes: `(index, probe)` with the index a card id or a cell index.
+#[derive(Clone, Debug)]
+pub struct Probes {
+    pub target: Target,
+    pub probes: Vec<(usize, LinearProbe)>,
+}
+
+/// The card probe `index` reads in row `r`: that card, or the card on that cell (none if
+/// the cell is empty).
+fn card_of(records: &Records, y: usize, target: Target, index: usize, r: usize) -> Option<usize> {
+    match target {
+        Target::Card => Some(index),
+        Target::Position => records.cells[r * y..][..y]
+            .iter()
+            .position(|&c| c as usize == index),
+    }
+}
+
+/// Probes fitted on the rows of `records` whose episode `train` accepts: one per card id,
+/// or one per board position that holds a card in at least [`MIN_POSITION_ROWS`] of them.
+pub fn fit(
+    game: &Config,
+    records: &Records,
+    train: impl Fn(u32) -> bool,
+    target: Target,
+) -> Result<Probes, ProbeError> {
     let (y, h) = (game.cards(), records.hidden);
+    if target == Target::Position && records.cells.len() != records.len() * y {
+        return Err(ProbeError::NoPositions);
+    }
     let rows: Vec<usize> = (0..records.len())
         .filter(|&r| train(records.episodes[r]))
         .collect();
-    let x: Vec<f32> = rows
-        .iter()
-        .flat_map(|&r| records.states[r * h..][..h].iter().copied())
-        .collect();
-    (0..y)
-        .map(|k| {
-            let labels: Vec<u8> = rows.iter().map(|&r| records.colours[r * y + k]).collect();
-            LinearProbe::fit(&x, &labels, h, game.colours())
+    let indices = match target {
+        Target::Card => y,
+        Target::Position => game.geometry().cells(),
+    };
+    let probes = (0..indices)
+        .filter_map(|index| {
+            let (mut x, mut labels) = (Vec::new(), Vec::new());
+            for &r in &rows {
+                if let Some(k) = card_of(records, y, target, index, r) {
+                    x.extend_from_slice(&records.states[r * h..][..h]);
+                    labels.push(records.colours[r * y + k]);
+                }
+            }
+            let enough = target == Target::Card || labels.len() >= MIN_POSITION_ROWS;
+            enough.then(|| (index, LinearProbe::fit(&x, &labels, h, game.colours())))
         })
-        .collect()
+        .collect();
+    Ok(Probes { target, probes })
 }
 
 /// Accuracy at one game step, over the cards of the rows at that step.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct StepAccuracy {
     pub step: usize,
-    /// Share of all cards whose colour the probe names right, and the oracle's share.
+    /// Share of all cards (or occupied positions) whose colour the probes name right, and
+    /// the oracle's share.
     pub all: f64,
     pub oracle_all: f64,
-    /// The same over the cards the seat has not seen itself (`None` if it has seen all).
+    /// The same over the cards the seat has not seen itself, "unopened" (`None` if it has
+    /// seen all).
     pub unseen: Option<f64>,
     pub oracle_unseen: Option<f64>,
     /// Rows (seat states) at this step.
@@ -188,7 +255,7 @@ fn oracle(game: &Config, colours: &[u8], seen: CardSet, k: usize) -> u8 {
 /// accepts (steps with fewer than `min_rows` rows are left out: too few to say).
 pub fn evaluate(
     game: &Config,
-    probes: &[LinearProbe],
+    probes: &Probes,
     records: &Records,
     test: impl Fn(u32) -> bool,
     min_rows: usize,
@@ -203,7 +270,10 @@ pub fn evaluate(
         let seen = records.seen[r];
         let s = &mut sums[records.steps[r] as usize];
         s[6] += 1;
-        for (k, probe) in probes.iter().enumerate() {
+        for (index, probe) in &probes.probes {
+            let Some(k) = card_of(records, y, probes.target, *index, r) else {
+                continue;
+            };
             let hit = (probe.predict(state) == colours[k]) as usize;
             let sure = (oracle(game, colours, seen, k) == colours[k]) as usize;
             s[0] += hit;
@@ -218,7 +288,7 @@ pub fn evaluate(
     }
     sums.iter()
         .enumerate()
-        .filter(|(_, s)| s[6] >= min_rows.max(1))
+        .filter(|(_, s)| s[6] >= min_rows.max(1) && s[2] > 0)
         .map(|(step, s)| {
             let share = |a: usize, n: usize| (n > 0).then(|| a as f64 / n as f64);
             StepAccuracy {
@@ -263,6 +333,7 @@ mod tests {
         assert!(!r.is_empty());
         assert_eq!(r.states.len(), r.len() * 16);
         assert_eq!(r.colours.len(), r.len() * game.cards());
+        assert_eq!(r.cells.len(), r.len() * game.cards());
         let y = game.cards();
         // Rows come step by step, the games of a batch side by side: each episode's rows
         // count its steps from 0, one by one.
@@ -277,6 +348,13 @@ mod tests {
             *step += 1;
             // At the first state nothing is seen, and the memory is the wide network's
             // first step from zero on seat 1's view of the deal.
+            // Each card's position: where the deal puts it at the first state.
+            if r.steps[i] == 0 {
+                let at: Vec<u8> = (0..y)
+                    .map(|k| game.geometry().index(deal.cell_of(Card(k as u8))) as u8)
+                    .collect();
+                assert_eq!(&r.cells[i * y..][..y], &at[..], "row {i}");
+            }
             if r.steps[i] == 0 {
                 assert!(r.seen[i].is_empty(), "row {i}");
                 let want = wide.step_seats(&[(&deal, Seat(1))], vec![0.0; 16], vec![0.0]);
@@ -329,7 +407,7 @@ mod tests {
                     r.episodes.push(episode);
                 }
             }
-            let probes = fit(&game, &r, |e| e % 5 != 0);
+            let probes = fit(&game, &r, |e| e % 5 != 0, Target::Card).unwrap();
             let acc = evaluate(&game, &probes, &r, |e| e % 5 == 0, 1);
             assert_eq!(acc.len(), 4);
             for a in &acc {
@@ -342,5 +420,67 @@ mod tests {
                 assert_eq!(a.rows, 60);
             }
         }
+    }
+
+    /// Probes by board position read the colour of whatever card lies there: with memories
+    /// that code the colour on each of 9 positions (the cards shuffled over them every
+    /// episode), position probes read every occupied position, card probes only chance, and
+    /// positions never occupied get no probe. Records without positions refuse them.
+    #[test]
+    fn position_probes_read_the_board_where_card_probes_cannot() {
+        use yokai_engine::Cell;
+        let game = Config::from_name("9c-2p").unwrap();
+        let g = game.geometry();
+        let used: Vec<u8> = (0..9)
+            .map(|k| g.index(Cell::new(3 + k / 3, 3 + k % 3)) as u8)
+            .collect();
+        let mut rng = ChaCha8Rng::seed_from_u64(3);
+        let mut draw =
+            move |n: usize| (crate::distribution::unit_draw(&mut rng) * n as f64) as usize % n;
+        let mut r = Records {
+            hidden: 27,
+            ..Records::default()
+        };
+        for episode in 0..400u32 {
+            let colours = Game::new(game, episode as u64).deal().card_colours;
+            // Card k lies on used[place[k]].
+            let mut place: Vec<usize> = (0..9).collect();
+            for i in (1..9).rev() {
+                place.swap(i, draw(i + 1));
+            }
+            for step in 0..2u16 {
+                let mut memory = vec![0f32; 27];
+                for k in 0..9 {
+                    memory[place[k] * 3 + colours[k].0 as usize] = 1.0;
+                }
+                r.states.extend(memory);
+                r.colours.extend(colours.iter().map(|c| c.0));
+                r.cells.extend((0..9).map(|k| used[place[k]]));
+                r.seen.push(CardSet::EMPTY);
+                r.steps.push(step);
+                r.episodes.push(episode);
+            }
+        }
+        let by_position = fit(&game, &r, |e| e % 5 != 0, Target::Position).unwrap();
+        let mut indices: Vec<usize> = by_position.probes.iter().map(|(i, _)| *i).collect();
+        indices.sort();
+        let mut want: Vec<usize> = used.iter().map(|&c| c as usize).collect();
+        want.sort();
+        assert_eq!(
+            indices, want,
+            "a probe for each occupied position, none elsewhere"
+        );
+        for a in evaluate(&game, &by_position, &r, |e| e % 5 == 0, 1) {
+            assert!(a.all > 0.99 && a.unseen.unwrap() > 0.99, "{a:?}");
+        }
+        let by_card = fit(&game, &r, |e| e % 5 != 0, Target::Card).unwrap();
+        for a in evaluate(&game, &by_card, &r, |e| e % 5 == 0, 1) {
+            assert!(a.all < 0.6, "a card's colour is not where it lies: {a:?}");
+        }
+        r.cells.clear();
+        assert_eq!(
+            fit(&game, &r, |_| true, Target::Position).unwrap_err(),
+            ProbeError::NoPositions
+        );
     }
 }

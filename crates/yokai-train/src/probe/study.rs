@@ -3,7 +3,7 @@
 //! partner in both seatings, by the same probes. The CLI and any other front end report
 //! the curves; this module owns which games are played and which rows fit and test.
 
-use super::{evaluate, fit, record, StepAccuracy};
+use super::{evaluate, fit, record, StepAccuracy, Target};
 use crate::{TrainError, TrainedPolicy};
 use yokai_engine::Config;
 
@@ -23,15 +23,13 @@ pub enum StudyError {
     TooFewGames { games: usize },
     #[error("no run to probe")]
     NoRun,
-    #[error("{path}: probes are built for 2-player games (its game has {players} players)")]
-    NotTwoPlayers { path: String, players: usize },
     /// A run or partner trained on another game than the first run.
     #[error(transparent)]
     OtherGame(#[from] TrainError),
 }
 
 /// Where a curve's games were played: the run's held-out self-play, or with partner `k`
-/// (an index into the study's partners), both seatings.
+/// (an index into the study's partners) in every other seat, the run in each seat in turn.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Setting {
     SelfPlay,
@@ -47,36 +45,34 @@ pub struct Curve {
     pub steps: Vec<StepAccuracy>,
 }
 
-/// The study's plan, checked: `runs` probed, each in self-play (`games` games, 80 % fit,
-/// 20 % test) and with each of `partners` (`games` per seating); deals and actions follow
-/// `seed` (self-play `seed`, the two seatings `seed + 1` and `seed + 2`).
+/// The study's plan, checked: `runs` probed, each in self-play (`games` games, every seat
+/// recorded, 80 % of the games fit, 20 % test) and with each of `partners` (`games` per
+/// seating: the run in seat i, the partner in every other, for each i); deals and actions
+/// follow `seed` (self-play `seed`, seating i `seed + 1 + i`).
 pub struct Study<'a> {
     runs: &'a [TrainedPolicy],
     partners: &'a [TrainedPolicy],
     games: usize,
     seed: u64,
     game: Config,
+    target: Target,
 }
 
 impl<'a> Study<'a> {
-    /// Check the plan: enough games, at least one run, one 2-player game for all.
+    /// Check the plan: enough games, at least one run, one game for all; probes by
+    /// `target` (board position, as the paper, or card id).
     pub fn new(
         runs: &'a [TrainedPolicy],
         partners: &'a [TrainedPolicy],
         games: usize,
         seed: u64,
+        target: Target,
     ) -> Result<Study<'a>, StudyError> {
         if games < MIN_GAMES {
             return Err(StudyError::TooFewGames { games });
         }
         let first = runs.first().ok_or(StudyError::NoRun)?;
         let game = *first.game();
-        if game.players() != 2 {
-            return Err(StudyError::NotTwoPlayers {
-                path: first.path().display().to_string(),
-                players: game.players(),
-            });
-        }
         for policy in runs.iter().chain(partners) {
             policy.check_game(&game)?;
         }
@@ -86,6 +82,7 @@ impl<'a> Study<'a> {
             games,
             seed,
             game,
+            target,
         })
     }
 
@@ -98,25 +95,41 @@ impl<'a> Study<'a> {
     /// called before run `k` is probed (for progress).
     pub fn run(&self, mut starting: impl FnMut(usize)) -> Vec<Curve> {
         let (game, games, seed) = (&self.game, self.games, self.seed);
+        let players = game.players();
         let mut curves = Vec::new();
         for (run, policy) in self.runs.iter().enumerate() {
             starting(run);
-            let own = record(game, &[policy, policy], &[true, true], games, seed);
-            let probes = fit(game, &own, |e| e % 5 != 0);
+            let own = record(
+                game,
+                &vec![policy; players],
+                &vec![true; players],
+                games,
+                seed,
+            );
+            let probes = fit(game, &own, |e| e % 5 != 0, self.target)
+                .expect("records of played games have positions");
             curves.push(Curve {
                 run,
                 setting: Setting::SelfPlay,
                 steps: evaluate(game, &probes, &own, |e| e % 5 == 0, MIN_ROWS),
             });
             for (k, partner) in self.partners.iter().enumerate() {
-                let mut with = record(game, &[policy, partner], &[true, false], games, seed + 1);
-                with.append(record(
-                    game,
-                    &[partner, policy],
-                    &[false, true],
-                    games,
-                    seed + 2,
-                ));
+                let mut with = super::Records {
+                    hidden: policy.hidden_size(),
+                    ..Default::default()
+                };
+                for seat in 0..players {
+                    let mut seats = vec![partner; players];
+                    seats[seat] = policy;
+                    let recorded: Vec<bool> = (0..players).map(|s| s == seat).collect();
+                    with.append(record(
+                        game,
+                        &seats,
+                        &recorded,
+                        games,
+                        seed + 1 + seat as u64,
+                    ));
+                }
                 curves.push(Curve {
                     run,
                     setting: Setting::With(k),
@@ -141,13 +154,17 @@ mod tests {
     fn a_study_is_checked_then_gives_self_play_and_each_partner_per_run() {
         let runs = [policy(), policy()];
         let partners = [policy()];
-        let e = Study::new(&runs, &partners, 49, 0).err().unwrap();
+        let e = Study::new(&runs, &partners, 49, 0, Target::Card)
+            .err()
+            .unwrap();
         assert!(e.to_string().contains("49 self-play games"), "{e}");
         assert!(matches!(
-            Study::new(&[], &partners, 50, 0),
+            Study::new(&[], &partners, 50, 0, Target::Card),
             Err(StudyError::NoRun)
         ));
-        let curves = Study::new(&runs, &partners, 50, 3).unwrap().run(|_| {});
+        let curves = Study::new(&runs, &partners, 50, 3, Target::Card)
+            .unwrap()
+            .run(|_| {});
         let order: Vec<(usize, Setting)> = curves.iter().map(|c| (c.run, c.setting)).collect();
         use Setting::*;
         assert_eq!(
@@ -161,5 +178,36 @@ mod tests {
         // every game of both seatings, one seat probed (100 games).
         assert_eq!(curves[0].steps[0].rows, 20);
         assert_eq!(curves[1].steps[0].rows, 100);
+    }
+
+    /// Three seats: self-play records every seat; with a partner, the run sits in each seat
+    /// in turn with the partner in the other two, one seat recorded; positions are probed.
+    #[test]
+    fn three_players_are_probed_in_every_seat() {
+        use crate::{MlpEncoder, TrainConfig, Trainer};
+        let tmp = tempfile::tempdir().unwrap();
+        let c = TrainConfig::from_toml_str(
+            "game = \"9c-3p-perfect\"\n[network]\npreset = \"compact\"\nhidden = 8\n\
+             [ppo]\nnum_envs = 4\nrollout_steps = 4\nminibatches = 1\n[run]\nthreads = 1\n",
+            "test",
+        )
+        .unwrap();
+        let path = tmp.path().join("p.ykp");
+        Trainer::<MlpEncoder>::new(c, 1)
+            .unwrap()
+            .policy()
+            .write_atomic(&path)
+            .unwrap();
+        let runs = [TrainedPolicy::load(&path).unwrap()];
+        let partners = [TrainedPolicy::load(&path).unwrap()];
+        let curves = Study::new(&runs, &partners, 50, 0, Target::Position)
+            .unwrap()
+            .run(|_| {});
+        assert_eq!(curves.len(), 2);
+        // Held-out fifth of 50 games × 3 seats; 3 seatings × 50 games × 1 seat.
+        assert_eq!(curves[0].steps[0].rows, 30);
+        assert_eq!(curves[1].steps[0].rows, 150);
+        // Nine occupied positions at the first state, every card unseen: both shares exist.
+        assert!(curves[0].steps[0].unseen.is_some());
     }
 }
