@@ -21,7 +21,8 @@ mod run;
 pub use act::ActConfig;
 pub use algorithm::{AlgorithmConfig, SymmetrySet};
 pub use network::{
-    ActionHead, CriticInput, EncoderKind, MemoryKind, NetworkConfig, NetworkPreset, GRAPH_HEADS,
+    ActionHead, CriticInput, EncoderKind, GraphReadout, MemoryKind, NetworkConfig, NetworkPreset,
+    GRAPH_HEADS,
 };
 pub use obl::{OblConfig, OblPartner};
 pub use overrides::Override;
@@ -308,6 +309,16 @@ mod tests {
         assert!(e.contains("e.toml") && e.contains("gat"), "{e}");
         let e = refused("[network]\nencoder = \"gcn\"\ngraph_width = 30\n", "e.toml");
         assert!(e.contains("network.graph_width"), "{e}");
+        let e = refused("[network]\ngraph_readout = \"concat\"\n", "e.toml");
+        assert!(
+            e.contains("network.graph_readout") && e.contains("graph encoders only"),
+            "{e}"
+        );
+        let e = refused(
+            "[network]\nencoder = \"gcn\"\ngraph_readout = \"flat\"\n",
+            "e.toml",
+        );
+        assert!(e.contains("flat"), "{e}");
     }
 
     #[test]

@@ -13,6 +13,14 @@ pub struct NetworkConfig {
     /// Graph encoders: message-passing layers and their width (4 and 64 in the paper).
     pub graph_layers: usize,
     pub graph_width: usize,
+    /// Graph encoders: embed each node-feature modality (colour, hint colours, position,
+    /// locks, seen, id, turn, substep) with its own dense layer before message passing, as
+    /// the paper's appendix (after Bortoletto et al.). Off: one input layer reads them all.
+    pub graph_preembed: bool,
+    /// Graph encoders: what the rest of the network reads of the nodes: `pooled` (the
+    /// virtual node and the mean of the others: the same whatever the order of cards and
+    /// slots) or `concat` (every node's embedding side by side, the paper's appendix).
+    pub graph_readout: GraphReadout,
     /// The memory: `gru` (the paper's) or `trxl`.
     pub memory: MemoryKind,
     /// Transformer-XL: model width, attention heads, steps remembered, and the bias that
@@ -50,6 +58,8 @@ impl Default for NetworkConfig {
             encoder: None,
             graph_layers: 4,
             graph_width: 64,
+            graph_preembed: false,
+            graph_readout: GraphReadout::Pooled,
             memory: MemoryKind::Gru,
             trxl_width: 64,
             trxl_heads: 8,
@@ -106,6 +116,16 @@ impl NetworkConfig {
                 "need at least 1 layer and a width that is a positive multiple of 4 (the heads)",
             );
         }
+        let graph = matches!(
+            encoder,
+            EncoderKind::Gcn | EncoderKind::Gatv2 | EncoderKind::Relation
+        );
+        if (n.graph_preembed || n.graph_readout != GraphReadout::Pooled) && !graph {
+            return bad(
+                "network.graph_preembed / network.graph_readout",
+                "apply to the graph encoders only (network.encoder = \"gcn\", \"gatv2\" or \"relation\")",
+            );
+        }
         if n.trxl_heads == 0 || n.trxl_width == 0 || n.trxl_width % n.trxl_heads != 0 {
             return bad(
                 "network.trxl_width / network.trxl_heads",
@@ -129,6 +149,14 @@ impl NetworkConfig {
         }
         Ok(())
     }
+}
+
+/// How a graph encoder hands its nodes on: pooled (order-free) or concatenated.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum GraphReadout {
+    Pooled,
+    Concat,
 }
 
 /// Attention heads of the GATv2 and relation encoders (the paper's 4).

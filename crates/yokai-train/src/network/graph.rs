@@ -19,14 +19,21 @@
 //!   nodes (edges ignored: positions are in the features) then an MLP, each with a
 //!   residual and a layer norm (Zambaldi et al.'s relational module).
 //!
-//! Readout: the virtual node's embedding and the mean of the other nodes' embeddings. Both
-//! are invariant to relabelling cards (permuting card nodes, with the hints that point at
-//! them) and to permuting hint slots; the tests check it. The pointer head still reads each
-//! card from the observation itself, so nothing is lost for the actor.
+//! Pre-embedding (`network.graph_preembed`, the paper's appendix after Bortoletto et al.):
+//! each node-feature modality gets its own dense layer before message passing — known
+//! colour, hint colours, position, locks (present and hinted), seen this turn and id to 4
+//! values each, my turn to 2, substep to 4: 30 values per node (the paper's 26 has no
+//! separate hint-colour modality) — and the virtual node is the zero vector (with its flag).
+//!
+//! Readout (`network.graph_readout`): `pooled`, the virtual node's embedding and the mean of
+//! the other nodes' embeddings, both invariant to relabelling cards (permuting card nodes,
+//! with the hints that point at them) and to permuting hint slots (the tests check it); or
+//! `concat`, every node's embedding side by side, as the paper's appendix. The pointer head
+//! still reads each card from the observation itself, so nothing is lost for the actor.
 
 use super::board::Board;
 use super::Encoder;
-use crate::config::{EncoderKind, TrainConfig, GRAPH_HEADS};
+use crate::config::{EncoderKind, GraphReadout, TrainConfig, GRAPH_HEADS};
 use crate::init::Init;
 use burn::module::{Module, Param};
 use burn::nn::{LayerNorm, LayerNormConfig, Linear};
@@ -36,16 +43,40 @@ use burn::tensor::TensorData;
 use yokai_engine::{Config, Part};
 use yokai_vec::Encoding;
 
-/// A graph encoder: input layer, message-passing layers, order-free readout.
+/// A graph encoder: (pre-embedding,) input layer, message-passing layers, readout.
 #[derive(Module, Debug)]
 pub struct GraphEncoder {
-    /// Node features plus the "virtual" flag → width.
+    /// One dense layer per node-feature modality (empty without pre-embedding).
+    preembed: Vec<Linear>,
+    /// Node features (or their pre-embeddings) plus the "virtual" flag → width.
     input: Linear,
     layers: Vec<GraphLayer>,
     #[module(skip)]
     board: Board,
     #[module(skip)]
     width: usize,
+    /// Each pre-embedded modality's first feature channel and channel count.
+    #[module(skip)]
+    modalities: Vec<(usize, usize)>,
+    #[module(skip)]
+    concat: bool,
+}
+
+/// The node-feature modalities and their pre-embedding sizes: `(first channel, channels,
+/// embedding size)`. The sizes are the paper's (4, and 2 for the current player).
+pub fn modalities(game: &Config) -> Vec<(usize, usize, usize)> {
+    let ch = game.image_channels();
+    let c = game.colours();
+    vec![
+        (ch.known, c, 4),
+        (ch.hint, c, 4),
+        (ch.row, 2, 4),
+        (ch.present, 2, 4),
+        (ch.observed, 1, 4),
+        (ch.id, 1, 4),
+        (ch.my_turn, 1, 2),
+        (ch.substep, 1, 4),
+    ]
 }
 
 /// One message-passing layer of any of the three kinds. (A network holds a handful, built
@@ -128,21 +159,42 @@ impl Encoder for GraphEncoder {
                 }
             })
             .collect();
+        let (preembed, modalities, inputs) = if config.network.graph_preembed {
+            let m = modalities(game);
+            let layers = m
+                .iter()
+                .map(|&(_, n, out)| init.linear(n, out, sqrt2, device))
+                .collect();
+            let width = m.iter().map(|&(_, _, out)| out).sum();
+            (layers, m.iter().map(|&(at, n, _)| (at, n)).collect(), width)
+        } else {
+            (Vec::new(), Vec::new(), board.features)
+        };
         GraphEncoder {
-            input: init.linear(board.features + 1, d, sqrt2, device),
+            preembed,
+            input: init.linear(inputs + 1, d, sqrt2, device),
             layers,
             board,
             width: d,
+            modalities,
+            concat: config.network.graph_readout == GraphReadout::Concat,
         }
     }
 
     fn output_size(&self) -> usize {
-        2 * self.width
+        if self.concat {
+            (self.board.cards + self.board.hints + 1) * self.width
+        } else {
+            2 * self.width
+        }
     }
 
     fn forward(&self, obs: Tensor<2>) -> Tensor<2> {
         let h = self.node_embeddings(obs);
         let [b, v, d] = h.dims();
+        if self.concat {
+            return h.reshape([b, v * d]);
+        }
         let virtual_node = h.clone().narrow(1, v - 1, 1).reshape([b, d]);
         let mean = h.narrow(1, 0, v - 1).mean_dim(1).reshape([b, d]);
         Tensor::cat(vec![virtual_node, mean], 1)
@@ -170,6 +222,8 @@ impl GraphEncoder {
             Some(GraphLayer::Gatv2(_)) => Some(GatLayer::mask(self.edges(x.clone()))),
             _ => None,
         };
+        let x = self.preembedded(x);
+        let f = x.dims()[2];
         let real = Tensor::cat(vec![x, Tensor::zeros([b, n, 1], &device)], 2);
         let virtual_node = Tensor::cat(
             vec![
@@ -188,6 +242,21 @@ impl GraphEncoder {
             };
         }
         h
+    }
+
+    /// The node features with each modality embedded by its own dense layer, side by side
+    /// (`[B, N, 30]` for three colours); the features themselves without pre-embedding.
+    pub fn preembedded(&self, x: Tensor<3>) -> Tensor<3> {
+        if self.preembed.is_empty() {
+            return x;
+        }
+        let parts = self
+            .preembed
+            .iter()
+            .zip(&self.modalities)
+            .map(|(layer, &(at, n))| layer.forward(x.clone().narrow(2, at, n)))
+            .collect();
+        Tensor::cat(parts, 2)
     }
 
     /// The graph's edges with self-loops, `[B, V, V]` with V = Y + H + 1 (0 or 1).
@@ -297,8 +366,20 @@ mod tests {
     use yokai_engine::{Card, Game, Seat};
 
     fn encoder(kind: EncoderKind, game: &Config, seed: u64) -> GraphEncoder {
+        encoder_with(kind, game, seed, false, GraphReadout::Pooled)
+    }
+
+    fn encoder_with(
+        kind: EncoderKind,
+        game: &Config,
+        seed: u64,
+        preembed: bool,
+        readout: GraphReadout,
+    ) -> GraphEncoder {
         let mut config = TrainConfig::from_toml_str("", "test").unwrap();
         config.network.encoder = Some(kind);
+        config.network.graph_preembed = preembed;
+        config.network.graph_readout = readout;
         GraphEncoder::new(&config, game, &mut Init::new(seed), &Device::flex())
     }
 
@@ -358,8 +439,9 @@ mod tests {
             let [n, f] = game.node_shape(Part::Full);
             let (y, nh) = (game.cards(), game.hints());
             let mut rng = ChaCha8Rng::seed_from_u64(11);
-            for kind in [EncoderKind::Gcn, EncoderKind::Gatv2, EncoderKind::Relation] {
-                let net = encoder(kind, &game, 5);
+            let kinds = [EncoderKind::Gcn, EncoderKind::Gatv2, EncoderKind::Relation];
+            for (kind, preembed) in kinds.into_iter().flat_map(|k| [(k, false), (k, true)]) {
+                let net = encoder_with(kind, &game, 5, preembed, GraphReadout::Pooled);
                 for deal in 0..3 {
                     let x = features_after(game, deal, 25 + 10 * deal as usize);
                     // A random permutation of the cards and one of the hint slots.
@@ -390,6 +472,51 @@ mod tests {
                     }
                 }
             }
+        }
+    }
+
+    /// Pre-embedding gives every feature channel to exactly one modality, and each
+    /// modality's block of the embedding reads only its own channels. The concatenating
+    /// readout hands on every node's embedding, in node order.
+    #[test]
+    fn preembedding_reads_each_modality_apart_and_concat_hands_on_every_node() {
+        for name in ["9c-2p-perfect", "16c-4p-perfect"] {
+            let game = Config::from_name(name).unwrap();
+            let [n, f] = game.node_shape(Part::Full);
+            let m = modalities(&game);
+            let mut channels: Vec<usize> = m.iter().flat_map(|&(at, k, _)| at..at + k).collect();
+            channels.sort();
+            assert_eq!(channels, (0..f).collect::<Vec<_>>(), "{name}");
+            let widths: usize = m.iter().map(|&(_, _, out)| out).sum();
+            assert_eq!(
+                widths,
+                2 * 4 + 4 * 4 + 2 + 4,
+                "the paper's sizes, and hint colours"
+            );
+            let net = encoder_with(EncoderKind::Gcn, &game, 3, true, GraphReadout::Concat);
+            let x = features_after(game, 1, 30);
+            let base = to_vec(net.preembedded(batch(std::slice::from_ref(&x)).reshape([1, n, f])));
+            let mut block = 0;
+            for &(at, k, out) in &m {
+                let mut changed = x.clone();
+                for node in 0..n {
+                    for c in at..at + k {
+                        changed[node * f + c] += 0.5;
+                    }
+                }
+                let moved = to_vec(net.preembedded(batch(&[changed]).reshape([1, n, f])));
+                for node in 0..n {
+                    for j in 0..widths {
+                        let gap = (base[node * widths + j] - moved[node * widths + j]).abs();
+                        let inside = (block..block + out).contains(&j);
+                        assert_eq!(gap > 1e-6, inside, "{name}: channels {at}.. and value {j}");
+                    }
+                }
+                block += out;
+            }
+            let nodes = to_vec(net.node_embeddings(batch(std::slice::from_ref(&x))));
+            assert_eq!(net.output_size(), (n + 1) * 64);
+            assert_eq!(to_vec(net.forward(batch(&[x]))), nodes);
         }
     }
 
