@@ -267,32 +267,28 @@ pub fn read_belief_metrics(dir: &Path) -> Result<Option<Vec<BeliefStats>>, Train
     if !path.exists() {
         return Ok(None);
     }
-    let text = std::fs::read_to_string(&path).map_err(|e| io(&path, e))?;
-    text.lines()
-        .enumerate()
-        .filter(|(_, l)| !l.trim().is_empty())
-        .map(|(i, l)| {
-            serde_json::from_str(l).map_err(|source| TrainError::Json {
-                path: format!("{}:{}", path.display(), i + 1),
-                what: "belief curve line",
-                source,
-            })
-        })
-        .collect::<Result<Vec<_>, _>>()
-        .map(Some)
+    read_json_lines(&path, "belief curve line").map(Some)
 }
 
 /// Read a run's metrics log.
 pub fn read_metrics(dir: &Path) -> Result<Vec<UpdateStats>, TrainError> {
-    let path = dir.join(METRICS);
-    let text = std::fs::read_to_string(&path).map_err(|e| io(&path, e))?;
+    read_json_lines(&dir.join(METRICS), "metrics line")
+}
+
+/// One value per non-blank line of a JSON-lines file; a line that does not parse is an
+/// error naming the file, the line and `what` it should have been.
+fn read_json_lines<T: serde::de::DeserializeOwned>(
+    path: &Path,
+    what: &'static str,
+) -> Result<Vec<T>, TrainError> {
+    let text = std::fs::read_to_string(path).map_err(|e| io(path, e))?;
     text.lines()
         .enumerate()
         .filter(|(_, l)| !l.trim().is_empty())
         .map(|(i, l)| {
             serde_json::from_str(l).map_err(|source| TrainError::Json {
                 path: format!("{}:{}", path.display(), i + 1),
-                what: "metrics line",
+                what,
                 source,
             })
         })
