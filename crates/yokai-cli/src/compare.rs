@@ -48,10 +48,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 .filter(|s| s.game == game)
                 .flat_map(|s| &s.groups)
                 .collect();
-            out += &format!(
-                "## {game}: {}\n",
-                select_entropy(&groups, tolerance).report()
-            );
+            let selection = select_entropy(&groups, tolerance);
+            out += &format!("## {game}: HE's α selection\n\n{}\n", selection.report());
         }
     }
     print!("{out}");
