@@ -403,30 +403,35 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
     /// Action logits `[rows, N_a]` from the rows' observations `[rows, L]` (read by the
     /// pointer head only) and the GRU states after them.
     pub fn policy_logits(&self, obs: Tensor<2>, states: Tensor<2>) -> Tensor<2> {
-        let states = self.head_input(states);
+        self.policy_logits_of_head(obs, self.head_input(states))
+    }
+
+    /// [`ActorCritic::policy_logits`] from what the heads read ([`ActorCritic::head_input`]),
+    /// for callers that also need the values of the same rows: the head layers run once.
+    pub fn policy_logits_of_head(&self, obs: Tensor<2>, head_input: Tensor<2>) -> Tensor<2> {
         match (&self.actor, &self.pointer) {
-            (Some(actor), _) => actor.forward(states),
-            (None, Some(pointer)) => pointer.forward(obs, states),
+            (Some(actor), _) => actor.forward(head_input),
+            (None, Some(pointer)) => pointer.forward(obs, head_input),
             (None, None) => unreachable!("ActorCritic::new builds one actor head"),
         }
     }
 
     /// Action logits `[rows.len(), N_a]`, in the order of `rows`, for some rows of a step:
-    /// `obs` holds every row's observation (`[B, L]`, flat) and `states` every row's state
-    /// after the step (`[B, H]`). The actor runs on those rows alone: in a step most rows
+    /// `obs` holds every row's observation (`[B, L]`, flat) and `head_input` what the heads
+    /// read of every row's state after the step ([`ActorCritic::head_input`], `[B, ·]`). The actor runs on those rows alone: in a step most rows
     /// have one legal action (a waiting seat's NOOP), and the pointer head costs as much as
     /// the rest of the network. Empty when `rows` is.
-    pub fn logits_of_rows(&self, obs: &[f32], states: Tensor<2>, rows: &[usize]) -> Vec<f32> {
+    pub fn logits_of_rows(&self, obs: &[f32], head_input: Tensor<2>, rows: &[usize]) -> Vec<f32> {
         if rows.is_empty() {
             return Vec::new();
         }
-        let device = states.device();
-        let l = obs.len() / states.dims()[0];
+        let device = head_input.device();
+        let l = obs.len() / head_input.dims()[0];
         let chosen_obs = rows.iter().flat_map(|&r| &obs[r * l..][..l]).copied();
         let idx = rows.iter().map(|&r| r as i64).collect();
-        crate::tensor::to_vec(self.policy_logits(
+        crate::tensor::to_vec(self.policy_logits_of_head(
             crate::tensor::tensor2(chosen_obs.collect(), [rows.len(), l], &device),
-            states.select(0, crate::tensor::rows_tensor(idx, &device)),
+            head_input.select(0, crate::tensor::rows_tensor(idx, &device)),
         ))
     }
 
@@ -539,32 +544,36 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
             tensor2(states.to_vec(), [rows, states.len() / rows.max(1)], device),
             tensor2(keep.to_vec(), [rows, 1], device),
         );
+        // The head layers run once for the values and the logits.
+        let x = self.head_input(h.clone());
         Acted {
             values: match self.central {
-                None => to_vec(self.values(h.clone(), None)),
+                None => to_vec(self.values_of_head(x.clone(), None)),
                 Some(_) => Vec::new(),
             },
-            logits: self.logits_of_rows(obs, h.clone(), choosing),
+            logits: self.logits_of_rows(obs, x, choosing),
             states: to_vec(h),
         }
     }
 
     /// The action logits and, where the network has a colour layer (`ppo.belief_aux`),
-    /// every card's colour logits `[rows, Y, C]`.
-    pub fn policy_and_colour_logits(
+    /// every card's colour logits `[rows, Y, C]`, from what the heads read
+    /// ([`ActorCritic::head_input`]).
+    pub fn policy_and_colour_logits_of_head(
         &self,
         obs: Tensor<2>,
-        states: Tensor<2>,
+        head_input: Tensor<2>,
     ) -> (Tensor<2>, Option<Tensor<3>>) {
         match &self.pointer {
-            Some(pointer) => pointer.forward_with_colours(obs, self.head_input(states)),
-            None => (self.policy_logits(obs, states), None),
+            Some(pointer) => pointer.forward_with_colours(obs, head_input),
+            None => (self.policy_logits_of_head(obs, head_input), None),
         }
     }
 
     /// What the heads read of memory states `[rows, H]`: the memory's output through the
-    /// `network.head_layers` layers.
-    fn head_input(&self, states: Tensor<2>) -> Tensor<2> {
+    /// `network.head_layers` layers. Callers that need both heads on the same rows compute
+    /// it once and pass it to the `…_of_head` forms.
+    pub fn head_input(&self, states: Tensor<2>) -> Tensor<2> {
         self.head_layers
             .iter()
             .fold(self.memory.output(states), |x, layer| {
@@ -590,7 +599,12 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
     /// # Panics
     /// With a central critic and no `truth`: the trainer always passes it.
     pub fn values(&self, states: Tensor<2>, truth: Option<Tensor<2>>) -> Tensor<1> {
-        let x = self.head_input(states);
+        self.values_of_head(self.head_input(states), truth)
+    }
+
+    /// [`ActorCritic::values`] from what the heads read ([`ActorCritic::head_input`]).
+    pub fn values_of_head(&self, head_input: Tensor<2>, truth: Option<Tensor<2>>) -> Tensor<1> {
+        let x = head_input;
         let x = match &self.central {
             None => x,
             Some(central) => {

@@ -194,7 +194,9 @@ impl ShardJob<'_> {
             let (n, width) = (bm * t_len, s.colours.len() / (bm * t_len));
             tensor2(s.colours, [n, width], d)
         });
-        let values = model.values(states.clone(), colours);
+        // What the heads read, once for the critic and the actor's chunks below.
+        let states = model.head_input(states);
+        let values = model.values_of_head(states.clone(), colours);
         let value_loss = self.value_loss(values, s.old_v, s.ret, s.value_weight);
         let zero = Tensor::<1>::zeros([1], d).sum();
         let mut policy = PolicyTerms {
@@ -215,7 +217,7 @@ impl ShardJob<'_> {
             } else {
                 Tensor::zeros([n, 1], d)
             };
-            let heads = model.policy_and_colour_logits(row_obs, states.select(0, idx));
+            let heads = model.policy_and_colour_logits_of_head(row_obs, states.select(0, idx));
             let rows = ChoosingRows {
                 masks: s.masks,
                 one_hot: s.one_hot,
