@@ -96,17 +96,9 @@ pub fn cross_play(
     let mut results = Vec::new();
     for (row, col, seatings, games) in cross_play_plan(policies.len(), config.players(), games) {
         progress(Progress::Pair { row, col });
-        let mut acc = MetricsAccumulator::default();
-        for seating in &seatings {
-            let seats: Vec<&PolicyFactory<'_>> = seating.iter().map(|&k| policies[k]).collect();
-            let part = play_group(config, &seats, games, seed, &|g| {
-                progress(Progress::Games(g))
-            })?;
-            acc.merge(&part);
-        }
-        let metrics = acc
-            .metrics()
-            .expect("every seating plays at least one game");
+        let metrics = play_seatings(config, policies, &seatings, games, seed, &|g| {
+            progress(Progress::Games(g))
+        })?;
         results.push(PairResult { row, col, metrics });
     }
     Ok(results)
@@ -184,20 +176,33 @@ pub fn distinct_cross_play(
     for members in sets {
         let all = seatings(members, config.players());
         let per = games.div_ceil(all.len() as u64);
-        let mut acc = MetricsAccumulator::default();
-        for seating in &all {
-            let seats: Vec<&PolicyFactory<'_>> = seating.iter().map(|&k| policies[k]).collect();
-            acc.merge(&play_group(config, &seats, per, seed, progress)?);
-        }
-        let metrics = acc
-            .metrics()
-            .expect("every seating plays at least one game");
+        let metrics = play_seatings(config, policies, &all, per, seed, progress)?;
         results.push(SetResult {
             members: members.clone(),
             metrics,
         });
     }
     Ok(results)
+}
+
+/// `games` games in each of `seatings` (policy indices per seat), merged: one entry of a
+/// cross-play table. Every seating plays at least one game, so there are metrics.
+fn play_seatings(
+    config: Config,
+    policies: &[&PolicyFactory<'_>],
+    seatings: &[Vec<usize>],
+    games: u64,
+    seed: u64,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<Metrics, PlayError> {
+    let mut acc = MetricsAccumulator::default();
+    for seating in seatings {
+        let seats: Vec<&PolicyFactory<'_>> = seating.iter().map(|&k| policies[k]).collect();
+        acc.merge(&play_group(config, &seats, games, seed, progress)?);
+    }
+    Ok(acc
+        .metrics()
+        .expect("every seating plays at least one game"))
 }
 
 /// Every arrangement of `members` (indices into a list of policies) over the seats: all

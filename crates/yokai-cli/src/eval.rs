@@ -14,7 +14,7 @@ use yokai_agents::eval::{
 use yokai_agents::Policy;
 use yokai_engine::{Config, Metrics};
 use yokai_train::source::{end_rule_label, run_dir_of};
-use yokai_train::{EndRule, PolicySource, TrainConfig};
+use yokai_train::{EndRule, PolicySource};
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -300,6 +300,12 @@ pub fn evaluate(
     Ok(results)
 }
 
+/// A training curve as drawn: smoothed over a 25th of its points, so that noisy
+/// per-update figures read as a line.
+fn curve(raw: Vec<(f64, f64)>) -> Vec<(f64, f64)> {
+    plots::smooth(&raw, (raw.len() / 25).max(1))
+}
+
 /// The pool the games run on: `threads` workers, or one per core.
 fn worker_pool(threads: Option<usize>) -> anyhow::Result<rayon::ThreadPool> {
     rayon::ThreadPoolBuilder::new()
@@ -377,13 +383,9 @@ pub fn summarise_groups(
         .map(|(method, members)| {
             let mut g = summarise(method, names, &flat, members);
             let trained = || members.iter().filter_map(|&i| entries[i].trained());
-            g.entropy_coef = shared(trained().map(|p| {
-                TrainConfig::from_toml_str(&p.header().train_config, "policy")
-                    .ok()
-                    // Through its shortest decimal: 0.07, not 0.07000000029802322.
-                    .and_then(|c| c.ppo.entropy_coef.to_string().parse::<f64>().ok())
-            }))
-            .flatten();
+            // Through its shortest decimal: 0.07, not 0.07000000029802322.
+            g.entropy_coef = shared(trained().map(|p| p.config().ppo.entropy_coef.to_string()))
+                .and_then(|a| a.parse::<f64>().ok());
             g.env_steps = shared(trained().map(|p| p.header().env_steps));
             g
         })
@@ -542,11 +544,11 @@ pub fn write_outputs(
         for (name, run) in &runs {
             let log = yokai_train::read_metrics(run)?;
             let points = |f: &dyn Fn(&yokai_engine::Metrics) -> f64| {
-                let raw: Vec<(f64, f64)> = log
-                    .iter()
-                    .filter_map(|s| s.games.map(|m| (s.env_steps as f64, f(&m))))
-                    .collect();
-                plots::smooth(&raw, (raw.len() / 25).max(1))
+                curve(
+                    log.iter()
+                        .filter_map(|s| s.games.map(|m| (s.env_steps as f64, f(&m))))
+                        .collect(),
+                )
             };
             ret.push(plots::Series {
                 label: name.clone(),
@@ -577,17 +579,17 @@ pub fn write_outputs(
         // OBL levels ≥ 2: how much their belief models know beyond first-hand facts.
         let mut gain = Vec::new();
         for (name, run) in &runs {
-            let Some(curve) = yokai_train::read_belief_metrics(run)? else {
+            let Some(curve_log) = yokai_train::read_belief_metrics(run)? else {
                 continue;
             };
-            let raw: Vec<(f64, f64)> = curve
-                .iter()
-                .enumerate()
-                .map(|(k, b)| ((k + 1) as f64, b.uniform_cross_entropy - b.cross_entropy))
-                .collect();
+            let points = curve(
+                (curve_log.iter().enumerate())
+                    .map(|(k, b)| ((k + 1) as f64, b.uniform_cross_entropy - b.cross_entropy))
+                    .collect(),
+            );
             gain.push(plots::Series {
                 label: name.clone(),
-                points: plots::smooth(&raw, (raw.len() / 25).max(1)),
+                points,
             });
         }
         if !gain.is_empty() {

@@ -95,6 +95,12 @@ pub struct DistinctSet {
 }
 
 impl GroupSummary {
+    /// The cross-play the paper's table shows: the sets of n distinct seeds where a game of
+    /// more than 2 seats has them (the paper's J_XP), else the pairs.
+    pub fn paper_xp(&self) -> &Side {
+        self.xp_distinct.as_ref().unwrap_or(&self.xp)
+    }
+
     /// Record the sets of n distinct seeds this method played (`xp_sets`, `xp_distinct`).
     pub fn set_distinct(&mut self, sets: Vec<DistinctSet>) {
         let metrics: Vec<&Metrics> = sets.iter().map(|s| &s.metrics).collect();
@@ -155,12 +161,11 @@ pub fn select_entropy(groups: &[&GroupSummary], tolerance: f64) -> EntropySelect
     let mut candidates: Vec<EntropyCandidate> = groups
         .iter()
         .filter_map(|g| {
-            let xp = g.xp_distinct.as_ref().unwrap_or(&g.xp);
             Some(EntropyCandidate {
                 name: g.name.clone(),
                 entropy_coef: g.entropy_coef?,
                 sp: g.sp.reward?.mean,
-                xp: xp.reward?.mean,
+                xp: g.paper_xp().reward?.mean,
             })
         })
         .collect();
@@ -247,10 +252,9 @@ fn cell(v: Option<MeanSe>, digits: usize) -> String {
 pub const TABLE_HEAD: &str = "| method | seeds | SP R | SP SEE % | SP EE % | SP WEE % | SP LEN | XP R | XP SEE % | XP EE % | XP WEE % | XP LEN |\n\
                               |---|---|---|---|---|---|---|---|---|---|---|---|\n";
 
-/// One Markdown row in the paper's layout; XP is the sets of n distinct seeds where a game
-/// of more than 2 seats has them (the paper's J_XP), else the pairs.
+/// One Markdown row in the paper's layout, its XP [`GroupSummary::paper_xp`].
 pub fn table_row(g: &GroupSummary) -> String {
-    let xp = g.xp_distinct.as_ref().unwrap_or(&g.xp);
+    let xp = g.paper_xp();
     format!(
         "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n",
         g.name,

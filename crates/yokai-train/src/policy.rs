@@ -3,7 +3,7 @@
 
 use crate::artifact::safetensors;
 use crate::artifact::{check_game, FileHeader, PolicyFile};
-use crate::config::ActConfig;
+use crate::config::{ActConfig, TrainConfig};
 use crate::device::default_device;
 use crate::distribution::{decide_end_row, sample_row};
 use crate::error::TrainError;
@@ -102,6 +102,8 @@ impl NetworkJob for Load<'_> {
 pub struct TrainedPolicy {
     net: Box<dyn LoadedNet>,
     game: Config,
+    /// The training config the file holds (parsed once, from its header or metadata).
+    config: TrainConfig,
     header: FileHeader,
     path: PathBuf,
     device: Device,
@@ -134,6 +136,7 @@ impl TrainedPolicy {
         Ok(TrainedPolicy {
             net,
             end_threshold: opened.config.act.end_threshold,
+            config: opened.config,
             game: opened.game,
             header: opened.header,
             path: opened.path,
@@ -162,6 +165,10 @@ impl TrainedPolicy {
     /// The game the network was trained on (its observation and action sizes fit only it).
     pub fn game(&self) -> &Config {
         &self.game
+    }
+    /// The config the network was trained with.
+    pub fn config(&self) -> &TrainConfig {
+        &self.config
     }
     /// Every parameter of the network, flattened (to compare two trained networks: the
     /// files themselves also hold burn's per-process parameter ids).
