@@ -86,7 +86,12 @@ class Row:
     def runs(self) -> list:
         """The directories of seed runs this row trains and evaluates: ``out``, or one
         ``out/level-L`` per OBL level."""
-        return [self.out / f"level-{l}" for l in self.levels] if self.levels else [self.out]
+        return [level_dir(self.out, l) for l in self.levels] if self.levels else [self.out]
+
+
+def level_dir(out, level: int) -> pathlib.Path:
+    """Where ``yokai train --levels`` puts OBL level ``level``'s seeds under ``out``."""
+    return pathlib.Path(out) / f"level-{level}"
 
 
 def parse_seeds(text: str) -> tuple:
@@ -143,7 +148,7 @@ def train_seed(yokai: str, config: str, seed: int, out: str, threads: int, devic
         return _train_run(yokai, config, seed, pathlib.Path(out), threads, device, overrides, [])
     result = {}
     for level in levels:
-        result = _train_run(yokai, config, seed, pathlib.Path(out) / f"level-{level}", threads, device,
+        result = _train_run(yokai, config, seed, level_dir(out, level), threads, device,
                             overrides, ["--levels", str(level)], out=pathlib.Path(out))
         result["level"] = level
     return result
