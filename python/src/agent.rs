@@ -54,14 +54,22 @@ impl PyAgent {
     /// ``end`` (trained policies only) chooses how END is played: ``None`` as the training
     /// config says (``act.end_threshold``), ``"draw"`` like any other action, or a
     /// probability in (0, 1): END wherever the network gives it more than that.
+    /// ``temperature`` (trained policies only) draws the other moves from
+    /// softmax(logits / T): ``None`` as the training config says (``act.temperature``, 1
+    /// when absent), 0 the most likely legal move.
     #[new]
-    #[pyo3(signature = (name, seed=0, end=None))]
-    fn new(name: &str, seed: u64, end: Option<&Bound<'_, PyAny>>) -> PyResult<Self> {
+    #[pyo3(signature = (name, seed=0, end=None, temperature=None))]
+    fn new(
+        name: &str,
+        seed: u64,
+        end: Option<&Bound<'_, PyAny>>,
+        temperature: Option<f64>,
+    ) -> PyResult<Self> {
         let Seated {
             label,
             trained,
             mut policy,
-        } = seat(name, seed, end)?;
+        } = seat(name, seed, end, temperature)?;
         policy.reset(seed);
         Ok(PyAgent {
             name: label,
@@ -72,17 +80,23 @@ impl PyAgent {
 
     /// Seed ``seed`` of the pretrained agents of ``preset``, built into the package
     /// (``yokai.pretrained_agents()`` lists them with their scores), as
-    /// ``Agent("pretrained:PRESET/SEED", agent_seed, end)``: ``agent_seed`` seeds the
-    /// agent's draws.
+    /// ``Agent("pretrained:PRESET/SEED", agent_seed, end, temperature)``: ``agent_seed``
+    /// seeds the agent's draws.
     #[staticmethod]
-    #[pyo3(signature = (preset, seed=0, agent_seed=0, end=None))]
+    #[pyo3(signature = (preset, seed=0, agent_seed=0, end=None, temperature=None))]
     fn pretrained(
         preset: &str,
         seed: u64,
         agent_seed: u64,
         end: Option<&Bound<'_, PyAny>>,
+        temperature: Option<f64>,
     ) -> PyResult<Self> {
-        PyAgent::new(&format!("pretrained:{preset}/{seed}"), agent_seed, end)
+        PyAgent::new(
+            &format!("pretrained:{preset}/{seed}"),
+            agent_seed,
+            end,
+            temperature,
+        )
     }
 
     /// Start a new game.
@@ -137,14 +151,23 @@ struct Seated {
 }
 
 /// `name` read as every front end reads a policy ([`PolicySource`]), seated with `seed`;
-/// `end`, when given, is the END rule of a trained policy (a bot's is refused).
+/// `end` and `temperature`, when given, are the END rule and the temperature of a trained
+/// policy (a bot's are refused).
 #[cfg(feature = "trained")]
-fn seat(name: &str, seed: u64, end: Option<&Bound<'_, PyAny>>) -> PyResult<Seated> {
+fn seat(
+    name: &str,
+    seed: u64,
+    end: Option<&Bound<'_, PyAny>>,
+    temperature: Option<f64>,
+) -> PyResult<Seated> {
     let mut source = PolicySource::parse(name).map_err(config_error)?;
     if let Some(end) = end {
         source
             .set_end_rule(end_rule(end)?, true)
             .map_err(config_error)?;
+    }
+    if let Some(t) = temperature {
+        source.set_temperature(t, true).map_err(config_error)?;
     }
     let trained = source
         .trained()
@@ -159,9 +182,15 @@ fn seat(name: &str, seed: u64, end: Option<&Bound<'_, PyAny>>) -> PyResult<Seate
     })
 }
 
-/// Without the trainer only the bots can sit: a path or an END rule is refused.
+/// Without the trainer only the bots can sit: a path, an END rule or a temperature is
+/// refused.
 #[cfg(not(feature = "trained"))]
-fn seat(name: &str, seed: u64, end: Option<&Bound<'_, PyAny>>) -> PyResult<Seated> {
+fn seat(
+    name: &str,
+    seed: u64,
+    end: Option<&Bound<'_, PyAny>>,
+    temperature: Option<f64>,
+) -> PyResult<Seated> {
     if Path::new(name).exists() || name.starts_with("pretrained:") {
         return Err(config_error(format!(
             "`{name}` is a trained policy, but this build of yokai has no trained-policy support \
@@ -171,6 +200,11 @@ fn seat(name: &str, seed: u64, end: Option<&Bound<'_, PyAny>>) -> PyResult<Seate
     if end.is_some() {
         return Err(config_error(format!(
             "`end` sets how a trained policy plays END; `{name}` is not a trained policy"
+        )));
+    }
+    if temperature.is_some() {
+        return Err(config_error(format!(
+            "`temperature` sets how a trained policy draws its moves; `{name}` is not a trained policy"
         )));
     }
     let spec: yokai_agents::PolicySpec = name.parse().map_err(config_error)?;

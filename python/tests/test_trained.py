@@ -121,3 +121,25 @@ def test_the_end_rule_of_a_trained_agent_can_be_chosen(run_dir):
             yokai.Agent(str(run_dir), end=bad)
     with pytest.raises(ValueError, match="not a trained policy"):
         yokai.Agent("greedy", end=0.5)
+
+
+def test_at_temperature_zero_a_trained_agent_plays_the_same_whatever_its_seed(run_dir):
+    """T = 0 takes the most likely legal move: agents seeded differently play the same
+    games, move for move; at the trained distribution (T = 1) their draws differ. Bad
+    temperatures, and one for a bot, are refused."""
+
+    def games(temperature, agent_seed):
+        played = []
+        for seed in range(6):
+            agents = [yokai.Agent(str(run_dir), end=0.5, temperature=temperature) for _ in range(2)]
+            env = yokai.play("9c-2p-perfect", agents, seed=seed, agent_seed=agent_seed)
+            played.append(tuple(env.history))
+        return played
+
+    assert games(0.0, 0) == games(0.0, 100)
+    assert games(1.0, 0) != games(1.0, 100)
+    for bad in [-0.5, float("nan"), 1000.0]:
+        with pytest.raises(ValueError, match="temperature"):
+            yokai.Agent(str(run_dir), temperature=bad)
+    with pytest.raises(ValueError, match="not a trained policy"):
+        yokai.Agent("greedy", temperature=0.0)

@@ -216,11 +216,15 @@ class Agent:
     sees only what its seat may know. Show it every action with ``observe`` before
     ``env.step``. ``end`` (trained policies only): ``None`` plays END as the training
     config says, ``"draw"`` draws it like any action, a probability ``p`` in (0, 1) ends
-    wherever the network gives END more than ``p``."""
+    wherever the network gives END more than ``p``. ``temperature`` (trained policies
+    only): ``None`` as the training config says (``act.temperature``, else 1), ``T`` draws
+    the other moves from softmax(logits / T), 0 plays the most likely legal move."""
 
-    def __init__(self, name: str, seed: int = 0, end: float | str | None = None) -> None: ...
+    def __init__(self, name: str, seed: int = 0, end: float | str | None = None,
+                 temperature: float | None = None) -> None: ...
     @staticmethod
-    def pretrained(preset: str, seed: int = 0, agent_seed: int = 0, end: float | str | None = None) -> Agent:
+    def pretrained(preset: str, seed: int = 0, agent_seed: int = 0, end: float | str | None = None,
+                   temperature: float | None = None) -> Agent:
         """Seed ``seed`` of the pretrained agents of ``preset`` (``pretrained_agents()``);
         ``agent_seed`` seeds its draws."""
     def reset(self, seed: int) -> None: ...

@@ -13,7 +13,7 @@ use yokai_agents::eval::{
 };
 use yokai_agents::Policy;
 use yokai_engine::{Config, Metrics};
-use yokai_train::source::{end_rule_label, run_dir_of};
+use yokai_train::source::{play_rule_label, run_dir_of};
 use yokai_train::{EndRule, PolicySource};
 
 #[derive(clap::Args)]
@@ -54,6 +54,12 @@ pub struct Args {
     /// rules. A trained policy that decides END is named with its threshold in the tables.
     #[arg(long, default_value = "file")]
     end: EndRule,
+    /// Draw trained policies' moves from softmax(logits / T) (`act.temperature`): 1 is the
+    /// trained distribution, 0 the most likely legal move (greedy play, how Hanabi agents
+    /// are usually evaluated). Default: as each one's training config says. END decided by
+    /// a threshold keeps reading P(END) at temperature 1. Bots keep their own draws.
+    #[arg(long, value_name = "T")]
+    temperature: Option<f64>,
 }
 
 /// Expand the policy arguments: a quoted glob in the last path component
@@ -124,6 +130,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .collect::<Result<Vec<_>, _>>()?;
     for entry in &mut entries {
         entry.set_end_rule(args.end, false)?;
+        if let Some(t) = args.temperature {
+            entry.set_temperature(t, false)?;
+        }
     }
     // Trained policies bring their game; a --config must agree with it.
     let config = match (&args.config, entries.iter().find_map(PolicySource::game)) {
@@ -361,7 +370,7 @@ pub fn groups_of(entries: &[PolicySource]) -> Vec<(String, Vec<usize>)> {
             .filter(|d| !d.is_empty())
             .unwrap_or_else(|| run.display().to_string());
         // Seeds that choose END by different rules are different methods.
-        let method = method + &end_rule_label(p);
+        let method = method + &play_rule_label(p);
         match groups.iter_mut().find(|(m, _)| *m == method) {
             Some((_, members)) => members.push(i),
             None => groups.push((method, vec![i])),

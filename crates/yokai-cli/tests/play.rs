@@ -454,6 +454,20 @@ fn train_then_eval_a_run_directory() {
     assert!(!drawn.contains("END >") && ee > 0.0, "{drawn}");
     let t = text(&yokai(&["eval", run.to_str().unwrap(), "--end", "1.5"]));
     assert!(t.contains("`1.5` is not an END rule"), "{t}");
+    // --temperature 0 plays the most likely move, and the tables name it; a temperature
+    // below 0 is refused, naming the field.
+    let out = yokai(&[
+        "eval",
+        run.to_str().unwrap(),
+        "--games",
+        "20",
+        "--temperature",
+        "0",
+    ]);
+    let t = text(&out);
+    assert!(out.status.success() && t.contains("seed-0 (T = 0)"), "{t}");
+    let t = text(&yokai(&["eval", run.to_str().unwrap(), "--temperature=-1"]));
+    assert!(t.contains("act.temperature must lie in [0, 100]"), "{t}");
     // Starting the same run again is refused; --resume with nothing left to do is fine.
     let args = [
         "train",

@@ -99,10 +99,33 @@ pub fn sample_row(logits: &[f32], mask: &[f32], u: f64, greedy: bool) -> (usize,
     (action, lp as f32, entropy as f32)
 }
 
+/// One move drawn from a row of logits at `temperature` (`act.temperature`): from
+/// softmax(logits / T) over the legal actions, the most likely legal action at T = 0.
+/// `scratch` holds the scaled row (reused between calls, so no row is allocated per move).
+pub fn draw_row(
+    logits: &[f32],
+    mask: &[f32],
+    u: f64,
+    temperature: f32,
+    scratch: &mut Vec<f32>,
+) -> usize {
+    if temperature == 0.0 {
+        return sample_row(logits, mask, u, true).0;
+    }
+    if temperature == 1.0 {
+        return sample_row(logits, mask, u, false).0;
+    }
+    scratch.clear();
+    scratch.extend(logits.iter().map(|&l| l / temperature));
+    sample_row(scratch, mask, u, false).0
+}
+
 /// One move from a row of logits for a policy that decides END (`act.end_threshold`):
 /// where END (index `end`) is legal and its probability over the legal actions exceeds
-/// `threshold`, END; otherwise a draw (with `u`) over the other legal actions, renormalised.
-/// Where END is illegal, or the only legal action, this is [`sample_row`]'s draw. When END
+/// `threshold`, END; otherwise a draw (with `u`, at `temperature` as [`draw_row`]) over the
+/// other legal actions, renormalised. P(END) is read at temperature 1, where the END term
+/// calibrated it. Where END is illegal, or the only legal action, this is [`draw_row`]'s
+/// draw. When END
 /// is legal but not chosen, its entry of `mask` is cleared for that draw (the caller writes
 /// a fresh mask for every row), so no second mask is built per move.
 pub fn decide_end_row(
@@ -111,6 +134,8 @@ pub fn decide_end_row(
     u: f64,
     end: usize,
     threshold: f32,
+    temperature: f32,
+    scratch: &mut Vec<f32>,
 ) -> usize {
     if mask[end] > 0.5 {
         // P(END) = 1 / (1 + Σ_{a ≠ END} exp(l_a − l_END)), in f64 and without overflow.
@@ -126,7 +151,7 @@ pub fn decide_end_row(
         }
         mask[end] = 0.0;
     }
-    sample_row(logits, mask, u, false).0
+    draw_row(logits, mask, u, temperature, scratch)
 }
 
 #[cfg(test)]
@@ -227,14 +252,30 @@ mod tests {
         let draws: Vec<f64> = (0..1000).map(|i| (i as f64 + 0.5) / 1000.0).collect();
         // P = [0.1, 0.6, 0.3]: END on every draw.
         let likely = [0.1f32.ln(), 0.6f32.ln(), 0.3f32.ln(), 50.0];
-        assert!(draws
-            .iter()
-            .all(|&u| decide_end_row(&likely, &mut mask.clone(), u, 1, 0.5) == 1));
+        assert!(draws.iter().all(|&u| decide_end_row(
+            &likely,
+            &mut mask.clone(),
+            u,
+            1,
+            0.5,
+            1.0,
+            &mut Vec::new()
+        ) == 1));
         // P = [0.1, 0.4, 0.5]: never END; NOOP and action 2 as 1 : 5, as renormalised.
         let unlikely = [0.1f32.ln(), 0.4f32.ln(), 0.5f32.ln(), 50.0];
         let chosen: Vec<usize> = draws
             .iter()
-            .map(|&u| decide_end_row(&unlikely, &mut mask.clone(), u, 1, 0.5))
+            .map(|&u| {
+                decide_end_row(
+                    &unlikely,
+                    &mut mask.clone(),
+                    u,
+                    1,
+                    0.5,
+                    1.0,
+                    &mut Vec::new(),
+                )
+            })
             .collect();
         assert!(!chosen.contains(&1) && !chosen.contains(&3));
         let noops = chosen.iter().filter(|&&a| a == 0).count();
@@ -243,20 +284,89 @@ mod tests {
             "{noops} NOOPs of 1000, want about 167"
         );
         // The threshold is the rule's: 0.7 refuses the P(END) = 0.6 row.
-        assert!(draws
-            .iter()
-            .all(|&u| decide_end_row(&likely, &mut mask.clone(), u, 1, 0.7) != 1));
+        assert!(draws.iter().all(|&u| decide_end_row(
+            &likely,
+            &mut mask.clone(),
+            u,
+            1,
+            0.7,
+            1.0,
+            &mut Vec::new()
+        ) != 1));
         // END illegal: the plain draw. END alone legal: END.
         let no_end = [1.0, 0.0, 1.0, 0.0];
         for &u in &draws {
             assert_eq!(
-                decide_end_row(&likely, &mut no_end.clone(), u, 1, 0.5),
+                decide_end_row(
+                    &likely,
+                    &mut no_end.clone(),
+                    u,
+                    1,
+                    0.5,
+                    1.0,
+                    &mut Vec::new()
+                ),
                 sample_row(&likely, &no_end, u, false).0
             );
         }
         assert_eq!(
-            decide_end_row(&unlikely, &mut [0.0, 1.0, 0.0, 0.0], 0.3, 1, 0.5),
+            decide_end_row(
+                &unlikely,
+                &mut [0.0, 1.0, 0.0, 0.0],
+                0.3,
+                1,
+                0.5,
+                1.0,
+                &mut Vec::new()
+            ),
             1
         );
+    }
+
+    #[test]
+    fn a_temperature_sharpens_or_flattens_the_draw_and_zero_takes_the_best() {
+        // Legal: actions 0, 1, 2 with P = [0.2, 0.3, 0.5]; action 3 illegal (and best).
+        let logits = [0.2f32.ln(), 0.3f32.ln(), 0.5f32.ln(), 9.0];
+        let mask = [1.0, 1.0, 1.0, 0.0];
+        let draws: Vec<f64> = (0..10_000).map(|i| (i as f64 + 0.5) / 10_000.0).collect();
+        let mut scratch = Vec::new();
+        let share = |t: f32, scratch: &mut Vec<f32>| {
+            let best = draws
+                .iter()
+                .filter(|&&u| draw_row(&logits, &mask, u, t, scratch) == 2)
+                .count();
+            best as f64 / draws.len() as f64
+        };
+        // T = 1: the trained distribution, drawn exactly as sample_row draws it.
+        for &u in &draws[..100] {
+            assert_eq!(
+                draw_row(&logits, &mask, u, 1.0, &mut scratch),
+                sample_row(&logits, &mask, u, false).0
+            );
+        }
+        assert!((share(1.0, &mut scratch) - 0.5).abs() < 0.001);
+        // T = 0.5 squares the probabilities: 0.25 / (0.04 + 0.09 + 0.25).
+        assert!((share(0.5, &mut scratch) - 0.25 / 0.38).abs() < 0.001);
+        // T = 2: square roots; T = 0: always the best legal action, never the illegal one.
+        let roots = 0.5f64.sqrt() / (0.2f64.sqrt() + 0.3f64.sqrt() + 0.5f64.sqrt());
+        assert!((share(2.0, &mut scratch) - roots).abs() < 0.001);
+        assert_eq!(share(0.0, &mut scratch), 1.0);
+        // Deciding END reads P(END) at temperature 1 whatever the draw's temperature: END
+        // (index 1) at P = 0.6 is taken, at P = 0.3 refused, and then the best other move.
+        let end_mask = [1.0, 1.0, 1.0, 0.0];
+        let end_likely = [0.1f32.ln(), 0.6f32.ln(), 0.3f32.ln(), 9.0];
+        for &u in &draws[..100] {
+            let mut m = end_mask;
+            assert_eq!(
+                decide_end_row(&end_likely, &mut m, u, 1, 0.5, 0.0, &mut scratch),
+                1
+            );
+            let mut m = end_mask;
+            // P(END) = 0.3 < 0.5: the best of the others (action 2) at T = 0.
+            assert_eq!(
+                decide_end_row(&logits, &mut m, u, 1, 0.5, 0.0, &mut scratch),
+                2
+            );
+        }
     }
 }

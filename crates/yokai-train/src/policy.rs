@@ -5,7 +5,7 @@ use crate::artifact::safetensors;
 use crate::artifact::{check_game, FileHeader, PolicyFile};
 use crate::config::{ActConfig, TrainConfig};
 use crate::device::default_device;
-use crate::distribution::{decide_end_row, sample_row};
+use crate::distribution::{decide_end_row, draw_row};
 use crate::error::TrainError;
 use crate::network::{for_network, ActorCritic, Encoder, GruCell, NetworkJob, Recurrent, SeatStep};
 use burn::prelude::*;
@@ -109,6 +109,8 @@ pub struct TrainedPolicy {
     device: Device,
     /// `act.end_threshold` of the file's config, unless overridden.
     end_threshold: Option<f32>,
+    /// `act.temperature` of the file's config (1 when absent), unless overridden.
+    temperature: f32,
 }
 
 impl TrainedPolicy {
@@ -136,6 +138,7 @@ impl TrainedPolicy {
         Ok(TrainedPolicy {
             net,
             end_threshold: opened.config.act.end_threshold,
+            temperature: opened.config.act.temperature(),
             config: opened.config,
             game: opened.game,
             header: opened.header,
@@ -158,6 +161,21 @@ impl TrainedPolicy {
             .map_err(|why| TrainError::Mismatch {
                 path: self.path.display().to_string(),
                 message: format!("act.end_threshold {why}"),
+            })?;
+        Ok(())
+    }
+
+    /// The temperature its moves are drawn at (`act.temperature`; 0 takes the most likely).
+    pub fn temperature(&self) -> f32 {
+        self.temperature
+    }
+    /// Draw moves at another temperature than the file's (`yokai eval --temperature`,
+    /// Python's `temperature=`); one below 0 or not finite is refused.
+    pub fn set_temperature(&mut self, temperature: f64) -> Result<(), TrainError> {
+        self.temperature =
+            ActConfig::temperature_from(temperature).map_err(|why| TrainError::Mismatch {
+                path: self.path.display().to_string(),
+                message: format!("act.temperature {why}"),
             })?;
         Ok(())
     }
@@ -272,6 +290,9 @@ pub struct NetworkPolicy<E: Encoder, M: Recurrent = GruCell> {
     /// The END rule and END's action index.
     end_threshold: Option<f32>,
     end: usize,
+    /// The temperature moves are drawn at, and the row it scales.
+    temperature: f32,
+    scaled: Vec<f32>,
 }
 
 impl<E: Encoder, M: Recurrent> NetworkPolicy<E, M> {
@@ -288,6 +309,8 @@ impl<E: Encoder, M: Recurrent> NetworkPolicy<E, M> {
             rng: ChaCha8Rng::seed_from_u64(seed),
             end_threshold: from.end_threshold,
             end: from.game.encode(Action::End),
+            temperature: from.temperature,
+            scaled: Vec::new(),
         }
     }
 
@@ -329,8 +352,16 @@ impl<E: Encoder, M: Recurrent> Policy for NetworkPolicy<E, M> {
         view.write_legal_mask(&mut self.mask);
         let u = crate::distribution::unit_draw(&mut self.rng);
         let a = match self.end_threshold {
-            Some(t) => decide_end_row(&logits, &mut self.mask, u, self.end, t),
-            None => sample_row(&logits, &self.mask, u, false).0,
+            Some(t) => decide_end_row(
+                &logits,
+                &mut self.mask,
+                u,
+                self.end,
+                t,
+                self.temperature,
+                &mut self.scaled,
+            ),
+            None => draw_row(&logits, &self.mask, u, self.temperature, &mut self.scaled),
         };
         view.config()
             .decode(a)

@@ -71,6 +71,9 @@ pub enum SourceError {
     /// An END rule given to a bot, which keeps its own.
     #[error("an END rule sets how a trained policy plays END; `{0}` is not a trained policy but a built-in bot")]
     EndRuleForBot(String),
+    /// A temperature given to a bot, which draws its own moves.
+    #[error("a temperature sets how a trained policy draws its moves; `{0}` is not a trained policy but a built-in bot")]
+    TemperatureForBot(String),
 }
 
 /// A policy that can be seated: a built-in bot or a trained network.
@@ -98,13 +101,13 @@ impl PolicySource {
             .map_err(SourceError::Unknown)
     }
 
-    /// The name tables show: a bot's spec, or a trained policy's run directory with
-    /// ` (END > t)` where it decides END.
+    /// The name tables show: a bot's spec, or a trained policy's run directory with its
+    /// play rule where it is not the trained distribution (` (END > t, T = 0)`).
     pub fn name(&self) -> String {
         match self {
             PolicySource::Builtin(spec) => spec.to_string(),
             PolicySource::Trained(p) => {
-                format!("{}{}", run_dir_of(p.path()).display(), end_rule_label(p))
+                format!("{}{}", run_dir_of(p.path()).display(), play_rule_label(p))
             }
         }
     }
@@ -117,6 +120,19 @@ impl PolicySource {
             PolicySource::Trained(p) => Ok(rule.apply(p)?),
             PolicySource::Builtin(spec) if strict && rule != EndRule::File => {
                 Err(SourceError::EndRuleForBot(spec.to_string()))
+            }
+            PolicySource::Builtin(_) => Ok(()),
+        }
+    }
+
+    /// Make a trained policy draw its moves at `temperature` (`act.temperature`); a bot
+    /// draws its own, so one is refused when `strict` (Python) and left as it is otherwise
+    /// (`yokai eval --temperature` over a mixed list).
+    pub fn set_temperature(&mut self, temperature: f64, strict: bool) -> Result<(), SourceError> {
+        match self {
+            PolicySource::Trained(p) => Ok(p.set_temperature(temperature)?),
+            PolicySource::Builtin(spec) if strict => {
+                Err(SourceError::TemperatureForBot(spec.to_string()))
             }
             PolicySource::Builtin(_) => Ok(()),
         }
@@ -152,11 +168,22 @@ impl PolicySource {
     }
 }
 
-/// How a trained policy's name shows its END rule in tables: ` (END > t)` where it decides
-/// END, nothing where it draws it.
-pub fn end_rule_label(p: &TrainedPolicy) -> String {
-    p.end_threshold()
-        .map_or_else(String::new, |t| format!(" (END > {t})"))
+/// How a trained policy's name shows how it plays in tables: ` (END > t)` where it decides
+/// END, `T = x` where it draws its moves at a temperature other than 1, nothing where it
+/// plays the trained distribution as it is.
+pub fn play_rule_label(p: &TrainedPolicy) -> String {
+    let mut parts = Vec::new();
+    if let Some(t) = p.end_threshold() {
+        parts.push(format!("END > {t}"));
+    }
+    if p.temperature() != 1.0 {
+        parts.push(format!("T = {}", p.temperature()));
+    }
+    if parts.is_empty() {
+        String::new()
+    } else {
+        format!(" ({})", parts.join(", "))
+    }
 }
 
 /// The run directory of a policy file or checkpoint inside one (else the path itself).

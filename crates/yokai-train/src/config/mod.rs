@@ -163,6 +163,11 @@ impl TrainConfig {
                 return bad("act.end_threshold", &why);
             }
         }
+        if let Some(t) = self.act.temperature {
+            if let Err(why) = ActConfig::temperature_from(t.into()) {
+                return bad("act.temperature", &why);
+            }
+        }
         if p.belief_aux > 0.0 && n.head != ActionHead::Pointer {
             return bad(
                 "ppo.belief_aux",
@@ -234,6 +239,22 @@ mod tests {
         assert_eq!(c.ppo.cluster_shaping, 0.0);
         assert!(!c.ppo.entropy_normalized);
         assert_eq!(c.act.end_threshold, None);
+    }
+
+    #[test]
+    fn the_temperature_is_at_least_zero_and_survives_the_round_trip() {
+        assert_eq!(TrainConfig::default().act.temperature(), 1.0);
+        let c = TrainConfig::from_toml_str("[act]\ntemperature = 0.0\n", "a.toml").unwrap();
+        assert_eq!(c.act.temperature(), 0.0);
+        let again = TrainConfig::from_toml_str(&c.to_toml(), "saved").unwrap();
+        assert_eq!(again, c);
+        for bad in ["-0.5", "nan", "inf", "1000.0"] {
+            let e = refused(&format!("[act]\ntemperature = {bad}\n"), "a.toml");
+            assert!(
+                e.contains("act.temperature") && e.contains("a.toml"),
+                "{bad}: {e}"
+            );
+        }
     }
 
     #[test]
