@@ -81,6 +81,27 @@ def test_seeds_and_sweep_files_parse(tmp_path):
         (pathlib.Path("g/op-9c-2p"), ()),
         (pathlib.Path("g/fast"), ("ppo.lr=1e-3",)),
     ]
+    # A `grid` key: every combination of its fields' values, the first field slowest, after
+    # the row's own `set`; named as the hand-written rows above, or after `name`.
+    spec.write_text('out = "g"\n[[row]]\nconfig = "op-9c-2p"\nset = ["ppo.epochs=1"]\n'
+                    'grid = { "ppo.entropy_coef" = [0.01, 0.03], "network.head" = ["dense", "pointer"] }\n'
+                    '[[row]]\nconfig = "quick"\nname = "q"\ngrid = { "ppo.shaping_fraction" = [0.5] }\n')
+    rows = sweep.rows_from_args(args)
+    assert [(r.out, r.set) for r in rows] == [
+        (pathlib.Path(f"g/op-9c-2p-epochs-1-entropy_coef-{a}-head-{h}"),
+         ("ppo.epochs=1", f"ppo.entropy_coef={a}", f'network.head="{h}"'))
+        for a in ("0.01", "0.03") for h in ("dense", "pointer")
+    ] + [(pathlib.Path("g/q-shaping_fraction-0.5"), ("ppo.shaping_fraction=0.5",))]
+    # HE's α sweep is written as grids: the same twelve rows as one row per α.
+    args.sweep = str(root / "sweeps" / "he-alpha.toml")
+    assert [r.out.name for r in sweep.rows_from_args(args)] == [
+        f"he-9c-{p}p-entropy_coef-0.0{a}" for p in (3, 4) for a in range(2, 8)]
+    args.sweep = str(spec)
+    for bad in ['grid = { "ppo.lr" = [] }', 'grid = { "ppo.lr" = 0.1 }', 'grid = {}',
+                'grid = { "ppo.lr" = [0.1] }\nout = "x"']:
+        spec.write_text(f'[[row]]\nconfig = "quick"\n{bad}\n')
+        with pytest.raises(ValueError, match="row 1: .*grid|grid must"):
+            sweep.rows_from_args(args)
     spec.write_text('[[row]]\nconfig = "quick"\n[[row]]\nconfig = "quick"\n')
     with pytest.raises(ValueError, match="same directory"):
         sweep.rows_from_args(args)
@@ -115,21 +136,25 @@ def test_progress_lines_read_the_runs_files(tmp_path):
     assert sweep.progress_line(obl, 0, started) == "obl seed 0: finished"
 
 
-def _sweep(config, out, *more):
+def _sweep(config, out, *more, engine="tune"):
     return subprocess.Popen(
         [sys.executable, "-m", "yokai.sweep", str(config), "--seeds", "0..3", "--out", str(out),
-         "--num-cpus", "2", "--eval-games", "20", "--yokai", str(BINARY), *more],
+         "--num-cpus", "2", "--eval-games", "20", "--yokai", str(BINARY), "--engine", engine, *more],
         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
     )
 
 
-def test_a_killed_seed_resumes_from_its_checkpoint_and_the_sweep_evaluates(tmp_path):
+@pytest.mark.parametrize("engine", ["tune", "tasks"])
+def test_a_killed_seed_resumes_from_its_checkpoint_and_the_sweep_evaluates(tmp_path, engine):
+    """Under either engine (Tune trials with a FailureConfig, or Ray tasks with retries)."""
     if not BINARY.exists():
         pytest.skip("needs the yokai binary: scripts/test.sh builds it before pytest")
+    if engine == "tune":
+        pytest.importorskip("ray.tune")
     config = tmp_path / "tiny.toml"
     config.write_text(SWEEP_TINY)
     out = tmp_path / "runs"
-    proc = _sweep(config, out)
+    proc = _sweep(config, out, engine=engine)
     # Kill seed 1's Ray worker once it has checkpointed at least twice, while it trains.
     run = out / "seed-1"
     deadline = time.time() + 300
@@ -176,11 +201,22 @@ def test_a_killed_seed_resumes_from_its_checkpoint_and_the_sweep_evaluates(tmp_p
     # Evaluated: every seed in self-play and cross-play.
     matrix = json.loads((out / "eval" / "matrix.json").read_text())
     assert len(matrix) == 6  # 3 self-play entries and 3 cross-play pairs
-    # A second start skips the finished seeds.
-    again = _sweep(config, out)
+    if engine == "tune":
+        # Tune logged every seed's curve as it trained: the last report of seed 1 (its
+        # second attempt) is the run's end, and its env steps rise.
+        import csv
+        trial = next((tmp_path / ".tune").glob("sweep-*/00-runs-seed-1"))
+        with open(sorted(trial.glob("**/progress.csv"))[-1]) as f:
+            steps = [int(float(r["env_steps"])) for r in csv.DictReader(f) if r.get("env_steps")]
+        assert steps and steps[-1] == 25_600 and steps == sorted(steps), steps
+    # A second start skips the finished seeds (Tune: restores the finished experiment), and
+    # none of them is trained again.
+    logs = [(out / f"seed-{s}" / sweep.ATTEMPTS).read_text() for s in range(3)]
+    again = _sweep(config, out, engine=engine)
     stdout, stderr = again.communicate(timeout=600)
     assert again.returncode == 0, stderr
     assert stdout.count("finished earlier") == 3, stdout
+    assert logs == [(out / f"seed-{s}" / sweep.ATTEMPTS).read_text() for s in range(3)]
 
 
 def test_a_rows_overrides_reach_the_trainer_and_a_resume_keeps_them(tmp_path):

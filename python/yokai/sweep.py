@@ -1,21 +1,24 @@
 """Multi-seed sweeps on Ray: ``python -m yokai.sweep CONFIG --seeds 0..12 [--address auto]``.
 
-Each seed of each row is one Ray task with its declared resources (``--cpus-per-seed``,
-``--gpus-per-seed``) that runs ``yokai train CONFIG --seeds N --out OUT`` into a directory
-every node sees (a local path by default; on a cluster a shared file system such as NFS or
-Lustre: the trainer writes ordinary files). Then the sweep evaluates every row with
+Each seed of each row is one Ray Tune trial (``--engine tune``, the default: see
+``yokai.sweep_tune``) or one plain Ray task (``--engine tasks``) with its declared resources
+(``--cpus-per-seed``, ``--gpus-per-seed``) that runs ``yokai train CONFIG --seeds N --out
+OUT`` into a directory every node sees (a local path by default; on a cluster a shared
+file system such as NFS or Lustre: the trainer writes ordinary files). Then the sweep evaluates every row with
 ``yokai eval`` (self-play and cross-play over all seeds) and, for several rows, writes the
 paper's table with ``yokai compare``.
 
 Fault tolerance comes from the trainer's checkpoints, not from Ray's object store:
 
-- a task whose worker dies (node lost, preempted, killed) is retried by Ray
-  (``--max-retries``), and a retry passes ``--resume`` when the seed has a checkpoint, so it
-  continues from the last one instead of starting over (the trainer's resume is exact: the
-  final parameters equal an uninterrupted run's);
+- a trial or task whose worker dies (node lost, preempted, killed) is retried by Ray
+  (``--max-retries``: Tune's ``FailureConfig``, or the task's retries), and a retry passes
+  ``--resume`` when the seed has a checkpoint, so it continues from the last one instead of
+  starting over (the trainer's resume is exact: the final parameters equal an
+  uninterrupted run's);
 - the ``yokai`` process dies with its worker (``PR_SET_PDEATHSIG``), so a retry never races
   an orphan writing the same directory;
-- a sweep stopped and started again skips seeds marked finished and resumes the others.
+- a sweep stopped and started again skips seeds marked finished and resumes the others
+  (with Tune, by restoring the experiment under ``<out>/.tune``).
 
 Without ``--address`` a local Ray instance is started, so the same command runs on a
 laptop. The driver prints one line per seed (update, steps, R, ETA) read from each run's
@@ -50,6 +53,7 @@ from __future__ import annotations
 
 import argparse
 import ctypes
+import functools
 import json
 import os
 import pathlib
@@ -57,6 +61,7 @@ import shutil
 import signal
 import subprocess
 import sys
+import tempfile
 import time
 from dataclasses import dataclass
 
@@ -67,6 +72,11 @@ except ModuleNotFoundError:  # pragma: no cover - the sweep extra installs tomli
 
 DONE = ".sweep-done"
 ATTEMPTS = "sweep.log"
+#: Seconds between looks at a training run's progress.
+REPORT_EVERY = 1.0
+#: How the seeds are run: Ray Tune trials (failure handling, resume, result logs) or plain
+#: Ray tasks (Ray core only).
+ENGINES = ("tune", "tasks")
 
 
 @dataclass(frozen=True)
@@ -140,23 +150,27 @@ def _die_with_parent():  # pragma: no cover - runs in the child between fork and
 
 
 def train_seed(yokai: str, config: str, seed: int, out: str, threads: int, device: str = "cpu",
-               overrides: tuple = (), levels: tuple = ()) -> dict:
-    """Train (or resume, or skip) one seed; the body of a Ray task. Returns a summary.
-    With ``levels``, the seed's OBL levels in order (level L reads the same seed's level
-    L-1), each resumed or skipped on its own."""
+               overrides: tuple = (), levels: tuple = (), report=None) -> dict:
+    """Train (or resume, or skip) one seed; the body of a Ray task or Tune trial. Returns a
+    summary. With ``levels``, the seed's OBL levels in order (level L reads the same seed's
+    level L-1), each resumed or skipped on its own. ``report``, when given, is called with
+    each new line of the run's ``metrics.jsonl`` as training goes (Tune's ``report``)."""
     if not levels:
-        return _train_run(yokai, config, seed, pathlib.Path(out), threads, device, overrides, [])
+        return _train_run(yokai, config, seed, pathlib.Path(out), threads, device, overrides, [],
+                          report=report)
     result = {}
     for level in levels:
+        level_report = None if report is None else (lambda m, level=level: report({**m, "level": level}))
         result = _train_run(yokai, config, seed, level_dir(out, level), threads, device,
-                            overrides, ["--levels", str(level)], out=pathlib.Path(out))
+                            overrides, ["--levels", str(level)], out=pathlib.Path(out), report=level_report)
         result["level"] = level
     return result
 
 
 def _train_run(yokai: str, config: str, seed: int, runs: pathlib.Path, threads: int, device: str,
-               overrides: tuple, extra: list, out: pathlib.Path | None = None) -> dict:
-    """``yokai train`` of one seed into ``runs/seed-N`` (``--out out``, ``runs`` by default)."""
+               overrides: tuple, extra: list, out: pathlib.Path | None = None, report=None) -> dict:
+    """``yokai train`` of one seed into ``runs/seed-N`` (``--out out``, ``runs`` by default),
+    handing ``report`` the run's progress (see ``train_seed``)."""
     run = runs / f"seed-{seed}"
     if (run / DONE).exists():
         return {"seed": seed, "status": "finished earlier"}
@@ -168,18 +182,54 @@ def _train_run(yokai: str, config: str, seed: int, runs: pathlib.Path, threads: 
            "--threads", str(threads), "--device", device, *extra] + (["--resume"] if resume else [])
     if not resume:  # a resumed run keeps its checkpoint's config
         cmd += [arg for o in overrides for arg in ("--set", o)]
-    proc = subprocess.run(cmd, capture_output=True, text=True,
-                          preexec_fn=_die_with_parent if sys.platform.startswith("linux") else None)
+    # stderr goes to a file, not a pipe: a pipe nobody reads while the run is polled fills
+    # up and stops the trainer.
+    with tempfile.TemporaryFile("w+") as err:
+        proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=err, text=True,
+                                preexec_fn=_die_with_parent if sys.platform.startswith("linux") else None)
+        if report is None:
+            proc.wait()
+        else:
+            reported = 0
+            while proc.poll() is None:
+                time.sleep(REPORT_EVERY)
+                reported = _report_new(run, reported, report)
+            _report_new(run, reported, report)
+        err.seek(0)
+        stderr = err.read()
     if proc.returncode != 0:
         _note(run, f"pid {os.getpid()} failed: exit {proc.returncode}")
         raise RuntimeError(f"yokai train {config} seed {seed} ({run}) exited with {proc.returncode}:\n"
-                           f"{proc.stderr[-2000:]}")
+                           f"{stderr[-2000:]}")
     # yokai's summary, "seed N: U updates, S env steps (S' now, in T s: …)", says how many
     # steps this attempt trained, hence where it resumed.
-    summary = next((l for l in proc.stderr.splitlines() if l.startswith(f"seed {seed}: ")), "")
+    summary = next((l for l in stderr.splitlines() if l.startswith(f"seed {seed}: ")), "")
     _note(run, f"pid {os.getpid()} done: {summary}")
     (run / DONE).write_text(summary)
-    return {"seed": seed, "status": "resumed" if resume else "trained", "log": proc.stderr.strip()}
+    return {"seed": seed, "status": "resumed" if resume else "trained", "log": stderr.strip()}
+
+
+def _report_new(run: pathlib.Path, reported: int, report) -> int:
+    """Hand ``report`` the update, env steps and training games' R of the newest line of
+    the run's ``metrics.jsonl`` when it has more lines than ``reported``; returns the
+    count."""
+    if report is None:
+        return reported
+    try:
+        lines = (run / "metrics.jsonl").read_text().splitlines()
+    except OSError:
+        return reported
+    # The last line may be half written; the one before it is whole.
+    for line in reversed(lines[reported:]):
+        try:
+            last = json.loads(line)
+        except ValueError:
+            continue
+        reward = (last.get("games") or {}).get("reward")
+        report({"update": int(last["update"]), "env_steps": int(last["env_steps"]),
+                **({"reward": float(reward)} if reward is not None else {})})
+        return len(lines)
+    return reported
 
 
 def _note(run: pathlib.Path, text: str):
@@ -245,38 +295,61 @@ def progress_line(row: Row, seed: int, started: dict) -> str:
 
 def run_sweep(rows, address=None, cpus_per_seed=1, gpus_per_seed=0.0, max_retries=3,
               eval_games=1000, yokai=None, num_cpus=None, progress_every=10.0, quiet=False,
-              device="cpu", paper_table=2, select_entropy=None):
-    """Train every seed of every row as Ray tasks, then evaluate each row (each OBL level
-    apart); returns ``{"runs": [...], "evals": [...], "table": path or None}``, the table
-    beside the paper's Table ``paper_table`` (with HE's α selection at that tolerance when
-    ``select_entropy`` is given). ``num_cpus`` caps a local Ray instance (tests)."""
+              device="cpu", paper_table=2, select_entropy=None, engine="tune"):
+    """Train every seed of every row (as Ray Tune trials with ``engine="tune"``, as plain
+    Ray tasks with ``"tasks"``), then evaluate each row (each OBL level apart); returns
+    ``{"runs": [...], "evals": [...], "table": path or None}``, the table beside the paper's
+    Table ``paper_table`` (with HE's α selection at that tolerance when ``select_entropy``
+    is given). ``num_cpus`` caps a local Ray instance (tests)."""
     try:
         import ray
     except ImportError:
         raise SystemExit("yokai.sweep needs Ray: pip install './python[sweep]' (or pip install ray)") from None
+    if engine not in ENGINES:
+        raise ValueError(f"engine must be one of {', '.join(ENGINES)}, not {engine!r}")
+    if engine == "tune":
+        from yokai import sweep_tune
+
+        sweep_tune.require_tune()
 
     yokai = find_yokai(yokai)
     if not ray.is_initialized():
         ray.init(address=address, num_cpus=num_cpus if address is None else None,
                  include_dashboard=False, logging_level="WARNING", log_to_driver=False)
-    task = ray.remote(num_cpus=cpus_per_seed, num_gpus=gpus_per_seed, max_retries=max_retries,
-                      retry_exceptions=True)(train_seed)
-    refs = {}
+    threads = max(1, int(cpus_per_seed))
+    seeds = [(row, seed) for row in rows for seed in row.seeds]
     for row in rows:
         row.out.mkdir(parents=True, exist_ok=True)
-        for seed in row.seeds:
-            refs[task.remote(yokai, row.config, seed, str(row.out), max(1, int(cpus_per_seed)), device,
-                             row.set, row.levels)] = (row, seed)
-    started, results, pending = {}, [], list(refs)
-    next_report = time.time()
-    while pending:
-        ready, pending = ray.wait(pending, timeout=1.0)
-        for ref in ready:
-            results.append(ray.get(ref))  # raises once the retries are spent
-        if not quiet and (time.time() >= next_report or not pending):
-            for row, seed in refs.values():
+    started = {}
+
+    def report_progress():
+        if not quiet:
+            for row, seed in seeds:
                 print(progress_line(row, seed, started), file=sys.stderr)
-            next_report = time.time() + progress_every
+
+    if engine == "tune":
+        trials = [trial_of(rows, i, seed) for i, row in enumerate(rows) for seed in row.seeds]
+        finished = [all((run / f"seed-{t['seed']}" / DONE).exists() for run in rows[t["row"]].runs())
+                    for t in trials]
+        results = sweep_tune.train_with_tune(
+            trials, functools.partial(_train_trial, yokai, threads, device),
+            storage=rows[0].out.parent / ".tune", cpus=cpus_per_seed, gpus=gpus_per_seed,
+            max_failures=max_retries, progress=report_progress, progress_every=progress_every)
+        results = [{**r, "status": "finished earlier"} if done else r for r, done in zip(results, finished)]
+    else:
+        task = ray.remote(num_cpus=cpus_per_seed, num_gpus=gpus_per_seed, max_retries=max_retries,
+                          retry_exceptions=True)(train_seed)
+        pending = [task.remote(yokai, row.config, seed, str(row.out), threads, device, row.set, row.levels)
+                   for row, seed in seeds]
+        results = []
+        next_report = time.time()
+        while pending:
+            ready, pending = ray.wait(pending, timeout=1.0)
+            for ref in ready:
+                results.append(ray.get(ref))  # raises once the retries are spent
+            if time.time() >= next_report or not pending:
+                report_progress()
+                next_report = time.time() + progress_every
     evals = []
     if eval_games > 0:
         evaluate = ray.remote(num_cpus=cpus_per_seed)(evaluate_row)
@@ -291,6 +364,23 @@ def run_sweep(rows, address=None, cpus_per_seed=1, gpus_per_seed=0.0, max_retrie
         if proc.returncode != 0:
             raise RuntimeError(f"yokai compare exited with {proc.returncode}:\n{proc.stderr[-2000:]}")
     return {"runs": results, "evals": evals, "table": table}
+
+
+def trial_of(rows, index: int, seed: int) -> dict:
+    """Row ``index``'s seed as a Tune trial: JSON-able, with absolute paths (a trial runs in
+    a directory of its own)."""
+    row = rows[index]
+    config = row.config
+    if config.endswith(".toml") and pathlib.Path(config).exists():
+        config = str(pathlib.Path(config).resolve())
+    return {"row": index, "name": row.out.name, "seed": seed, "config": config,
+            "out": str(row.out.resolve()), "set": list(row.set), "levels": list(row.levels)}
+
+
+def _train_trial(yokai: str, threads: int, device: str, trial: dict, report) -> dict:
+    """``train_seed`` of one Tune trial, reporting its progress to Tune."""
+    return train_seed(yokai, trial["config"], trial["seed"], trial["out"], threads, device,
+                      tuple(trial["set"]), tuple(trial["levels"]), report=report)
 
 
 def read_sweep(path) -> dict:
@@ -329,23 +419,24 @@ def rows_from_args(args) -> list:
         base = pathlib.Path(spec.get("out", out or "runs"))
         rows = []
         for i, r in enumerate(spec.get("row", [])):
-            if "config" not in r or set(r) - {"config", "seeds", "out", "set", "name", "levels"}:
-                raise ValueError(f"{args.sweep}: row {i + 1} needs config (and may have seeds, out, set, name, levels)")
+            if "config" not in r or set(r) - {"config", "seeds", "out", "set", "name", "levels", "grid"}:
+                raise ValueError(f"{args.sweep}: row {i + 1} needs config (and may have seeds, out, set, name, "
+                                 "levels, grid)")
             overrides = r.get("set", [])
             if not (isinstance(overrides, list) and all(isinstance(o, str) and "=" in o for o in overrides)):
                 raise ValueError(f"{args.sweep}: row {i + 1}: set must be a list of \"FIELD=VALUE\" strings")
-            seeds = given_seeds or parse_seeds(r.get("seeds", spec.get("seeds", "0..3")))
-            levels = ()
-            if "levels" in r:
-                try:
-                    levels = parse_seeds(str(r["levels"]))
-                except ValueError as e:
-                    raise ValueError(f"{args.sweep}: row {i + 1}: levels: {str(e).removeprefix('--seeds ')}") from None
-                if 0 in levels:
-                    raise ValueError(f"{args.sweep}: row {i + 1}: OBL levels count from 1")
-            name = r.get("name") or row_name(r["config"], overrides)
-            rows.append(Row(r["config"], seeds, pathlib.Path(r.get("out", base / name)),
-                            tuple(overrides) + extra, levels))
+            if "grid" in r:
+                if "out" in r:
+                    raise ValueError(f"{args.sweep}: row {i + 1}: a grid makes several rows, which cannot share "
+                                     "one out; give name (a prefix) instead")
+                for more in grid_overrides(r["grid"], f"{args.sweep}: row {i + 1}"):
+                    prefix = r.get("name")
+                    name = "-".join([prefix, row_name("x", more).removeprefix("x-")]) if prefix else None
+                    rows.append(_file_row(spec, r, i, given_seeds, base, tuple(overrides) + more, extra, name,
+                                          args.sweep))
+                continue
+            rows.append(_file_row(spec, r, i, given_seeds, base, tuple(overrides), extra, r.get("name"),
+                                  args.sweep))
         outs = [row.out for row in rows]
         if len(set(outs)) != len(outs):
             raise ValueError(f"{args.sweep}: two rows write to the same directory; give them a name or out")
@@ -359,6 +450,42 @@ def rows_from_args(args) -> list:
         return [Row(args.configs[0], seeds, out, extra)]
     base = out or pathlib.Path("runs")
     return [Row(c, seeds, base / config_name(c), extra) for c in args.configs]
+
+
+def _file_row(spec, r, i, given_seeds, base, overrides, extra, name, path) -> Row:
+    """Row ``i`` of a sweep file with its ``overrides`` (its ``set``, and a grid point's)."""
+    seeds = given_seeds or parse_seeds(r.get("seeds", spec.get("seeds", "0..3")))
+    levels = ()
+    if "levels" in r:
+        try:
+            levels = parse_seeds(str(r["levels"]))
+        except ValueError as e:
+            raise ValueError(f"{path}: row {i + 1}: levels: {str(e).removeprefix('--seeds ')}") from None
+        if 0 in levels:
+            raise ValueError(f"{path}: row {i + 1}: OBL levels count from 1")
+    name = name or row_name(r["config"], overrides)
+    return Row(r["config"], seeds, pathlib.Path(r.get("out", base / name)), overrides + extra, levels)
+
+
+def grid_overrides(grid, where: str) -> list:
+    """A row's ``grid`` (``{"ppo.entropy_coef" = [0.01, 0.03], "ppo.lr" = [1e-3, 3e-3]}``)
+    as one tuple of ``FIELD=VALUE`` overrides per point of the grid: every combination of
+    the listed values, the first field varying slowest."""
+    if not (isinstance(grid, dict) and grid and all(isinstance(v, list) and v for v in grid.values())):
+        raise ValueError(f"{where}: grid must map each config field to a non-empty list of values")
+    points = [()]
+    for field, values in grid.items():
+        points = [p + (f"{field}={_toml_value(v)}",) for p in points for v in values]
+    return points
+
+
+def _toml_value(v) -> str:
+    """A grid value as ``yokai train --set`` reads it (TOML)."""
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, str):
+        return json.dumps(v)
+    return str(v)
 
 
 def main(argv=None):
@@ -380,6 +507,10 @@ def main(argv=None):
     ap.add_argument("--device", default="cpu", help="where each seed trains: cpu, vulkan or cuda (a yokai "
                                                      "binary built with that feature; see docs/training.md)")
     ap.add_argument("--max-retries", type=int, default=3, help="retries of a failed seed (default 3)")
+    ap.add_argument("--engine", choices=ENGINES, default="tune",
+                    help="tune: every seed a Ray Tune trial (restarts on failure, the experiment "
+                         "restored when started again, results in <out>/.tune); tasks: plain Ray "
+                         "tasks, for a Ray without Tune (default tune)")
     ap.add_argument("--eval-games", type=int, default=1000, help="games per pair in the evaluation; 0 skips it")
     ap.add_argument("--num-cpus", type=int, help="CPUs of the local Ray instance (default: all; "
                                                  "ignored with --address)")
@@ -394,7 +525,7 @@ def main(argv=None):
     result = run_sweep(rows, address=args.address, cpus_per_seed=args.cpus_per_seed,
                        gpus_per_seed=args.gpus_per_seed, max_retries=args.max_retries,
                        eval_games=args.eval_games, yokai=args.yokai, num_cpus=args.num_cpus,
-                       device=args.device, **table_options(args.sweep))
+                       device=args.device, engine=args.engine, **table_options(args.sweep))
     for r in result["runs"]:
         print(f"seed {r['seed']}: {r['status']}")
     for e in result["evals"]:
