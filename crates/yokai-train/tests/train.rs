@@ -940,6 +940,34 @@ fn the_shaping_anneals_over_the_share_of_the_run_it_is_given() {
 }
 
 #[test]
+fn the_entropy_bonus_follows_its_schedule_into_the_loss() {
+    let run = |last: Option<f32>| {
+        let mut c = tiny(SymmetrySet::None, 4);
+        c.ppo.entropy_coef = 0.04;
+        c.ppo.entropy_final = last;
+        one_thread(|| {
+            let mut t = Trainer::<MlpEncoder>::new(c, 1).unwrap();
+            let coefs = (0..4)
+                .map(|_| t.update().unwrap().entropy_coef)
+                .collect::<Vec<_>>();
+            (coefs, t.parameters())
+        })
+    };
+    // Update k of 4 learns with 0.04·(1 − k/4) + 0·k/4, and logs it.
+    let (coefs, annealed) = run(Some(0.0));
+    let coefs: Vec<f64> = coefs.into_iter().map(Option::unwrap).collect();
+    for (got, want) in coefs.iter().zip([0.04, 0.03, 0.02, 0.01]) {
+        assert!((got - want).abs() < 1e-7, "{coefs:?}");
+    }
+    // No schedule: nothing logged. A schedule that stays at entropy_coef learns the same
+    // parameters bit for bit, one that falls learns others: the bonus reaches the loss.
+    let (coefs, constant) = run(None);
+    assert!(coefs.iter().all(Option::is_none));
+    assert_eq!(run(Some(0.04)).1, constant);
+    assert_ne!(annealed, constant);
+}
+
+#[test]
 fn a_run_can_start_from_a_trained_policy_and_resumes_without_it() {
     let tmp = tempdir("init");
     let dir = tmp.path();

@@ -24,8 +24,14 @@ pub struct PpoConfig {
     /// Clip of the value change from the rollout's value (the clipped value loss).
     pub value_clip: f32,
     pub value_coef: f32,
-    /// Entropy bonus α.
+    /// Entropy bonus α (at the start of the run, when `entropy_final` is given).
     pub entropy_coef: f32,
+    /// The entropy bonus at the end of the run: α falls (or rises) linearly from
+    /// `entropy_coef` to it over the run. Absent (the paper's presets): α stays
+    /// `entropy_coef`. Early on the bonus keeps END and the moves explored; late, a smaller
+    /// one lets the policy settle on the moves its partner reads best.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub entropy_final: Option<f32>,
     /// Divide each row's entropy by the log of its number of legal actions before the
     /// bonus, so a turn with 700 legal moves and one with 10 pull towards uniform with the
     /// same strength (the raw masked entropy of a 700-way choice swamps the policy gradient;
@@ -92,6 +98,7 @@ impl Default for PpoConfig {
             value_clip: 0.2,
             value_coef: 0.5,
             entropy_coef: 0.05,
+            entropy_final: None,
             entropy_normalized: false,
             end_entropy_coef: 0.0,
             end_lookahead: 0.0,
@@ -148,6 +155,7 @@ impl PpoConfig {
             ("ppo.end_entropy_coef", p.end_entropy_coef),
             ("ppo.cluster_shaping", p.cluster_shaping),
             ("ppo.belief_aux", p.belief_aux),
+            ("ppo.entropy_final", p.entropy_final.unwrap_or(0.0)),
         ] {
             if !(weight >= 0.0 && weight.is_finite()) {
                 return bad(field, "must be a number ≥ 0");

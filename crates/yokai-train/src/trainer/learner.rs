@@ -38,8 +38,15 @@ pub(super) struct Losses {
 }
 
 impl<E: Encoder, M: Recurrent> Trainer<E, M> {
-    /// `epochs` passes over the rollout in `minibatches` shuffled sets of whole rows.
-    pub(super) fn learn_epochs(&mut self, ro: &Rollout, lr: f64, rng: &mut ChaCha8Rng) -> Losses {
+    /// `epochs` passes over the rollout in `minibatches` shuffled sets of whole rows, at the
+    /// learning rate and entropy bonus of this update.
+    pub(super) fn learn_epochs(
+        &mut self,
+        ro: &Rollout,
+        lr: f64,
+        entropy_coef: f32,
+        rng: &mut ChaCha8Rng,
+    ) -> Losses {
         let c = self.config.ppo.clone();
         let rows = self.actor.rows();
         let mb = rows / c.minibatches;
@@ -55,7 +62,7 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
                     (k + 1) * mb
                 };
                 let batch = &order[k * mb..end];
-                let step = self.learn(batch, ro, lr);
+                let step = self.learn(batch, ro, lr, entropy_coef);
                 if count == 0 {
                     sum.replay_error = step.replay_error;
                 }
@@ -87,8 +94,11 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
     /// |Δ log π| against the rollout before the step. On the CPU the minibatch's sequences
     /// are cut into one shard per worker thread, which learn side by side
     /// ([`super::minibatch`]).
-    fn learn(&mut self, batch: &[usize], ro: &Rollout, lr: f64) -> Losses {
-        let c = self.config.ppo.clone();
+    fn learn(&mut self, batch: &[usize], ro: &Rollout, lr: f64, entropy_coef: f32) -> Losses {
+        let c = crate::config::PpoConfig {
+            entropy_coef,
+            ..self.config.ppo.clone()
+        };
         let dims = (
             self.actor.rows(),
             self.actor.obs_len(),

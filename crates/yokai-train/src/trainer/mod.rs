@@ -84,6 +84,9 @@ pub struct UpdateStats {
     pub cluster_reward: f64,
     /// With `ppo.belief_aux`: the colour cross-entropy (nats per card) and the share of
     /// cards whose most likely predicted colour is the true one, at the choosing states.
+    /// The entropy bonus of this update, where it follows a schedule (`ppo.entropy_final`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub entropy_coef: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub belief_loss: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -244,9 +247,10 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         self.actor.to_true_action(row, view_action)
     }
 
-    /// The learning rate and the shaping weight at this point of the run: the rate falls
-    /// linearly to 0 with `anneal_lr`, the shaping over the first `shaping_fraction`.
-    fn schedules(&self) -> (f64, f64) {
+    /// The learning rate, the shaping weight and the entropy bonus at this point of the
+    /// run: the rate falls linearly to 0 with `anneal_lr`, the shaping over the first
+    /// `shaping_fraction`, the bonus from `entropy_coef` to `entropy_final` when given.
+    fn schedules(&self) -> (f64, f64, f32) {
         let c = &self.config.ppo;
         let progress = self.update as f64 / self.config.updates() as f64;
         let lr = if c.anneal_lr {
@@ -255,7 +259,13 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             c.lr
         };
         let shaping = c.shaping as f64 * (1.0 - progress / c.shaping_fraction as f64).max(0.0);
-        (lr, shaping)
+        let entropy = match c.entropy_final {
+            Some(last) => {
+                (c.entropy_coef as f64 * (1.0 - progress) + last as f64 * progress) as f32
+            }
+            None => c.entropy_coef,
+        };
+        (lr, shaping, entropy)
     }
 
     /// One PPO update: a rollout of `rollout_steps` steps in every game, then `epochs`
@@ -263,14 +273,14 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
     pub fn update(&mut self) -> Result<UpdateStats, TrainError> {
         let start = std::time::Instant::now();
         // 1. Schedules.
-        let (lr, shaping) = self.schedules();
+        let (lr, shaping, entropy_coef) = self.schedules();
         // One generator per update serves the action draws, then the minibatch order.
         let mut rng = ChaCha8Rng::seed_from_u64(derive_seed(self.seed, self.update));
         // 2. Rollout, with its value targets (GAE, or OBL's).
         let rollout = self.collect(shaping, &mut rng)?;
         let rollout_seconds = start.elapsed().as_secs_f64();
         // 3. Learning: PPO epochs over the rollout.
-        let losses = self.learn_epochs(&rollout, lr, &mut rng);
+        let losses = self.learn_epochs(&rollout, lr, entropy_coef, &mut rng);
         self.update += 1;
         // 4. Report.
         let secs = start.elapsed().as_secs_f64();
@@ -296,6 +306,7 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
                 rollout.value_weight.as_deref().unwrap_or(&[]),
             ),
             cluster_reward: rollout.cluster_reward,
+            entropy_coef: c.entropy_final.map(|_| entropy_coef as f64),
             belief_loss: losses.belief.map(|b| b.0),
             belief_accuracy: losses.belief.map(|b| b.1),
             obl_belief_cross_entropy: belief.map(|b| b.cross_entropy),
