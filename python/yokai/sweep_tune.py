@@ -84,7 +84,10 @@ def train_with_tune(trials: list, train, storage: pathlib.Path, cpus: float, gpu
         tuner = tune.Tuner(
             runnable,
             param_space={"trial": tune.grid_search(trials)},
-            tune_config=tune.TuneConfig(reuse_actors=True, trial_name_creator=lambda t: _trial_label(t.config["trial"]),
+            # One process serves trial after trial: a Tune actor's start is most of a tiny
+            # trial's time.
+            tune_config=tune.TuneConfig(reuse_actors=True,
+                                        trial_name_creator=lambda t: _trial_label(t.config["trial"]),
                                         trial_dirname_creator=lambda t: _trial_label(t.config["trial"])),
             run_config=tune.RunConfig(
                 name=name, storage_path=str(storage), verbose=0,
