@@ -247,35 +247,29 @@ mod tests {
 
     #[test]
     fn deciding_end_takes_it_above_the_threshold_and_never_below() {
-        // Legal: NOOP (0), END (1), action 2; action 3 illegal.
+        // Legal: NOOP (0), END (1), action 2; action 3 illegal. END is index 1, drawn at
+        // temperature 1.
         let mask = [1.0, 1.0, 1.0, 0.0];
+        let decide = |logits: &[f32], mask: &[f32], u: f64, threshold: f32| {
+            decide_end_row(
+                logits,
+                &mut mask.to_vec(),
+                u,
+                1,
+                threshold,
+                1.0,
+                &mut Vec::new(),
+            )
+        };
         let draws: Vec<f64> = (0..1000).map(|i| (i as f64 + 0.5) / 1000.0).collect();
         // P = [0.1, 0.6, 0.3]: END on every draw.
         let likely = [0.1f32.ln(), 0.6f32.ln(), 0.3f32.ln(), 50.0];
-        assert!(draws.iter().all(|&u| decide_end_row(
-            &likely,
-            &mut mask.clone(),
-            u,
-            1,
-            0.5,
-            1.0,
-            &mut Vec::new()
-        ) == 1));
+        assert!(draws.iter().all(|&u| decide(&likely, &mask, u, 0.5) == 1));
         // P = [0.1, 0.4, 0.5]: never END; NOOP and action 2 as 1 : 5, as renormalised.
         let unlikely = [0.1f32.ln(), 0.4f32.ln(), 0.5f32.ln(), 50.0];
         let chosen: Vec<usize> = draws
             .iter()
-            .map(|&u| {
-                decide_end_row(
-                    &unlikely,
-                    &mut mask.clone(),
-                    u,
-                    1,
-                    0.5,
-                    1.0,
-                    &mut Vec::new(),
-                )
-            })
+            .map(|&u| decide(&unlikely, &mask, u, 0.5))
             .collect();
         assert!(!chosen.contains(&1) && !chosen.contains(&3));
         let noops = chosen.iter().filter(|&&a| a == 0).count();
@@ -284,43 +278,16 @@ mod tests {
             "{noops} NOOPs of 1000, want about 167"
         );
         // The threshold is the rule's: 0.7 refuses the P(END) = 0.6 row.
-        assert!(draws.iter().all(|&u| decide_end_row(
-            &likely,
-            &mut mask.clone(),
-            u,
-            1,
-            0.7,
-            1.0,
-            &mut Vec::new()
-        ) != 1));
+        assert!(draws.iter().all(|&u| decide(&likely, &mask, u, 0.7) != 1));
         // END illegal: the plain draw. END alone legal: END.
         let no_end = [1.0, 0.0, 1.0, 0.0];
         for &u in &draws {
             assert_eq!(
-                decide_end_row(
-                    &likely,
-                    &mut no_end.clone(),
-                    u,
-                    1,
-                    0.5,
-                    1.0,
-                    &mut Vec::new()
-                ),
+                decide(&likely, &no_end, u, 0.5),
                 sample_row(&likely, &no_end, u, false).0
             );
         }
-        assert_eq!(
-            decide_end_row(
-                &unlikely,
-                &mut [0.0, 1.0, 0.0, 0.0],
-                0.3,
-                1,
-                0.5,
-                1.0,
-                &mut Vec::new()
-            ),
-            1
-        );
+        assert_eq!(decide(&unlikely, &[0.0, 1.0, 0.0, 0.0], 0.3, 0.5), 1);
     }
 
     #[test]

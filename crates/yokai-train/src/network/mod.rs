@@ -418,9 +418,10 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
 
     /// Action logits `[rows.len(), N_a]`, in the order of `rows`, for some rows of a step:
     /// `obs` holds every row's observation (`[B, L]`, flat) and `head_input` what the heads
-    /// read of every row's state after the step ([`ActorCritic::head_input`], `[B, ·]`). The actor runs on those rows alone: in a step most rows
-    /// have one legal action (a waiting seat's NOOP), and the pointer head costs as much as
-    /// the rest of the network. Empty when `rows` is.
+    /// read of every row's state after the step ([`ActorCritic::head_input`], `[B, ·]`).
+    /// The actor runs on those rows alone: in a step most rows have one legal action (a
+    /// waiting seat's NOOP), and the pointer head costs as much as the rest of the network.
+    /// Empty when `rows` is.
     pub fn logits_of_rows(&self, obs: &[f32], head_input: Tensor<2>, rows: &[usize]) -> Vec<f32> {
         if rows.is_empty() {
             return Vec::new();
@@ -603,8 +604,7 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
     }
 
     /// [`ActorCritic::values`] from what the heads read ([`ActorCritic::head_input`]).
-    pub fn values_of_head(&self, head_input: Tensor<2>, truth: Option<Tensor<2>>) -> Tensor<1> {
-        let x = head_input;
+    pub fn values_of_head(&self, x: Tensor<2>, truth: Option<Tensor<2>>) -> Tensor<1> {
         let x = match &self.central {
             None => x,
             Some(central) => {

@@ -82,11 +82,11 @@ pub struct UpdateStats {
     /// games: what `ppo.cluster_shaping` paid before its weight (0 when it is off).
     #[serde(default)]
     pub cluster_reward: f64,
-    /// With `ppo.belief_aux`: the colour cross-entropy (nats per card) and the share of
-    /// cards whose most likely predicted colour is the true one, at the choosing states.
     /// The entropy bonus of this update, where it follows a schedule (`ppo.entropy_final`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub entropy_coef: Option<f64>,
+    /// With `ppo.belief_aux`: the colour cross-entropy (nats per card) and the share of
+    /// cards whose most likely predicted colour is the true one, at the choosing states.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub belief_loss: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
