@@ -283,3 +283,23 @@ def test_every_shipped_sweep_runs_tiny_and_writes_its_table(tmp_path, name):
         assert table.count("HE's α selection") == 2, table
         for alpha in ("0.02", "0.07"):
             assert table.count(f"\n| {alpha} | runs/") == 2, table
+
+
+def test_progress_reports_read_only_whole_new_lines_and_follow_a_cut_back_log(tmp_path):
+    """The Tune trial's reports: the newest whole line past the last look (a half-written
+    line waits), nothing when nothing is new, and from the start again when a resumed run
+    has cut its log back to its checkpoint."""
+    log = tmp_path / "metrics.jsonl"
+    line = lambda u: json.dumps({"update": u, "env_steps": 64 * u, "games": {"reward": u / 10}}) + "\n"
+    got = []
+    log.write_text(line(1) + line(2) + line(3)[:10])
+    offset = sweep._report_new(tmp_path, 0, got.append)
+    assert got == [{"update": 2, "env_steps": 128, "reward": 0.2}]
+    assert offset == len(line(1) + line(2))
+    log.write_text(line(1) + line(2) + line(3) + line(4))
+    offset = sweep._report_new(tmp_path, offset, got.append)
+    assert got[-1]["update"] == 4 and offset == log.stat().st_size
+    assert sweep._report_new(tmp_path, offset, got.append) == offset and len(got) == 2
+    log.write_text(line(1))
+    assert sweep._report_new(tmp_path, offset, got.append) == len(line(1))
+    assert got[-1]["update"] == 1

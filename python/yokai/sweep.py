@@ -190,11 +190,11 @@ def _train_run(yokai: str, config: str, seed: int, runs: pathlib.Path, threads: 
         if report is None:
             proc.wait()
         else:
-            reported = 0
+            offset = 0
             while proc.poll() is None:
                 time.sleep(REPORT_EVERY)
-                reported = _report_new(run, reported, report)
-            _report_new(run, reported, report)
+                offset = _report_new(run, offset, report)
+            _report_new(run, offset, report)
         err.seek(0)
         stderr = err.read()
     if proc.returncode != 0:
@@ -209,27 +209,32 @@ def _train_run(yokai: str, config: str, seed: int, runs: pathlib.Path, threads: 
     return {"seed": seed, "status": "resumed" if resume else "trained", "log": stderr.strip()}
 
 
-def _report_new(run: pathlib.Path, reported: int, report) -> int:
-    """Hand ``report`` the update, env steps and training games' R of the newest line of
-    the run's ``metrics.jsonl`` when it has more lines than ``reported``; returns the
-    count."""
-    if report is None:
-        return reported
+def _report_new(run: pathlib.Path, offset: int, report) -> int:
+    """Hand ``report`` the update, env steps and training games' R of the newest whole line
+    written to the run's ``metrics.jsonl`` past byte ``offset``; returns the offset after
+    the last whole line read. Only the new bytes are read: a long run's log grows to
+    megabytes, and it is looked at every ``REPORT_EVERY`` seconds."""
     try:
-        lines = (run / "metrics.jsonl").read_text().splitlines()
+        with open(run / "metrics.jsonl", "rb") as f:
+            # A resumed run cuts its log back to its checkpoint: then read from the start.
+            if os.fstat(f.fileno()).st_size < offset:
+                offset = 0
+            f.seek(offset)
+            new = f.read()
     except OSError:
-        return reported
-    # The last line may be half written; the one before it is whole.
-    for line in reversed(lines[reported:]):
+        return offset
+    # A line without its newline is still being written: leave it for the next look.
+    whole = new[: new.rfind(b"\n") + 1]
+    lines = whole.splitlines()
+    if lines:
         try:
-            last = json.loads(line)
-        except ValueError:
-            continue
+            last = json.loads(lines[-1])
+        except ValueError:  # cut back and rewritten between two looks: skip this one
+            return offset + len(whole)
         reward = (last.get("games") or {}).get("reward")
         report({"update": int(last["update"]), "env_steps": int(last["env_steps"]),
                 **({"reward": float(reward)} if reward is not None else {})})
-        return len(lines)
-    return reported
+    return offset + len(whole)
 
 
 def _note(run: pathlib.Path, text: str):
