@@ -9,7 +9,7 @@ use std::sync::Mutex;
 use yokai_agents::Policy;
 use yokai_engine::{Config, Game};
 #[cfg(feature = "trained")]
-use yokai_train::{EndRule, PolicySource, TrainedPolicy};
+use yokai_train::{EndRule, PlayRule, PolicySource, TrainedPolicy};
 
 /// A built-in policy by name (``"random"``, ``"greedy"``, ``"belief"``, with parameters as
 /// ``"belief:continue_win=0.9"``), or a trained policy given as the path of a policy file,
@@ -161,14 +161,11 @@ fn seat(
     temperature: Option<f64>,
 ) -> PyResult<Seated> {
     let mut source = PolicySource::parse(name).map_err(config_error)?;
-    if let Some(end) = end {
-        source
-            .set_end_rule(end_rule(end)?, true)
-            .map_err(config_error)?;
-    }
-    if let Some(t) = temperature {
-        source.set_temperature(t, true).map_err(config_error)?;
-    }
+    let rule = PlayRule {
+        end: end.map(end_rule).transpose()?.unwrap_or_default(),
+        temperature,
+    };
+    source.set_play_rule(rule, true).map_err(config_error)?;
     let trained = source
         .trained()
         .map(|p| (p.path().to_path_buf(), *p.game()));

@@ -14,7 +14,7 @@ use yokai_agents::eval::{
 use yokai_agents::Policy;
 use yokai_engine::{Config, Metrics};
 use yokai_train::source::{play_rule_label, run_dir_of};
-use yokai_train::{EndRule, PolicySource};
+use yokai_train::{EndRule, PlayRule, PolicySource};
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -128,11 +128,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .iter()
         .map(|p| PolicySource::parse(p))
         .collect::<Result<Vec<_>, _>>()?;
+    let rule = PlayRule {
+        end: args.end,
+        temperature: args.temperature,
+    };
     for entry in &mut entries {
-        entry.set_end_rule(args.end, false)?;
-        if let Some(t) = args.temperature {
-            entry.set_temperature(t, false)?;
-        }
+        entry.set_play_rule(rule, false)?;
     }
     // Trained policies bring their game; a --config must agree with it.
     let config = match (&args.config, entries.iter().find_map(PolicySource::game)) {

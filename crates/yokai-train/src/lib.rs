@@ -54,5 +54,5 @@ pub use network::{
 };
 pub use policy::{NetworkPolicy, TrainedPolicy};
 pub use run::{read_belief_metrics, read_metrics, train_run, RunRequest, RunSummary};
-pub use source::{EndRule, PolicySource, SourceError};
+pub use source::{EndRule, PlayRule, PolicySource, SourceError};
 pub use trainer::{Trainer, UpdateStats};

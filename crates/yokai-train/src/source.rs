@@ -14,9 +14,10 @@ use yokai_agents::{Policy, PolicySpec};
 use yokai_engine::Config;
 
 /// How a trained policy chooses END when it plays.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub enum EndRule {
     /// As its training config says (`act.end_threshold`).
+    #[default]
     File,
     /// Drawn like any other action.
     Draw,
@@ -43,13 +44,41 @@ impl std::str::FromStr for EndRule {
     }
 }
 
-impl EndRule {
-    /// Make `policy` play END by this rule (a threshold outside (0, 1) is refused).
+/// How a trained policy plays where a front end overrides its file's `[act]`: the END rule
+/// and the temperature of its other moves (`yokai eval --end --temperature`, Python's
+/// `end=`, `temperature=`). The default keeps the file's rule in both.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PlayRule {
+    pub end: EndRule,
+    /// Draw the moves at this temperature (`act.temperature`); `None`: the file's.
+    pub temperature: Option<f64>,
+}
+
+impl PlayRule {
+    /// Make `policy` play by this rule; a threshold outside (0, 1) or a temperature outside
+    /// [0, 100] is refused, naming the policy's file.
     pub fn apply(self, policy: &mut TrainedPolicy) -> Result<(), TrainError> {
-        match self {
-            EndRule::File => Ok(()),
-            EndRule::Draw => policy.set_end_threshold(None),
-            EndRule::Threshold(t) => policy.set_end_threshold(Some(t)),
+        match self.end {
+            EndRule::File => {}
+            EndRule::Draw => policy.set_end_threshold(None)?,
+            EndRule::Threshold(t) => policy.set_end_threshold(Some(t))?,
+        }
+        if let Some(t) = self.temperature {
+            policy.set_temperature(t)?;
+        }
+        Ok(())
+    }
+
+    /// What of a trained policy's play this rule changes, as an error names it for a bot
+    /// (`None` where it changes nothing).
+    fn overrides(&self) -> Option<&'static str> {
+        match (self.end, self.temperature) {
+            (EndRule::File, None) => None,
+            (EndRule::File, Some(_)) => {
+                Some("a temperature sets how a trained policy draws its moves")
+            }
+            (_, None) => Some("an END rule sets how a trained policy plays END"),
+            (_, Some(_)) => Some("an END rule and a temperature set how a trained policy plays"),
         }
     }
 }
@@ -68,12 +97,9 @@ pub enum SourceError {
     /// `pretrained:…` naming no agent built in, or a damaged one.
     #[error(transparent)]
     Pretrained(#[from] crate::pretrained::PretrainedError),
-    /// An END rule given to a bot, which keeps its own.
-    #[error("an END rule sets how a trained policy plays END; `{0}` is not a trained policy but a built-in bot")]
-    EndRuleForBot(String),
-    /// A temperature given to a bot, which draws its own moves.
-    #[error("a temperature sets how a trained policy draws its moves; `{0}` is not a trained policy but a built-in bot")]
-    TemperatureForBot(String),
+    /// A play rule (END rule, temperature) given to a bot, which keeps its own.
+    #[error("{what}; `{bot}` is not a trained policy but a built-in bot")]
+    PlayRuleForBot { bot: String, what: &'static str },
 }
 
 /// A policy that can be seated: a built-in bot or a trained network.
@@ -112,29 +138,20 @@ impl PolicySource {
         }
     }
 
-    /// Make a trained policy play END by `rule`; bots keep their own rules, so `File` is
-    /// the only rule one accepts when `strict` (Python's `end=` for a bot is a mistake),
-    /// and every rule leaves it as it is otherwise (`yokai eval --end` over a mixed list).
-    pub fn set_end_rule(&mut self, rule: EndRule, strict: bool) -> Result<(), SourceError> {
-        match self {
-            PolicySource::Trained(p) => Ok(rule.apply(p)?),
-            PolicySource::Builtin(spec) if strict && rule != EndRule::File => {
-                Err(SourceError::EndRuleForBot(spec.to_string()))
+    /// Make a trained policy play by `rule`; bots keep their own END rules and draws, so a
+    /// rule that changes anything is refused for one when `strict` (Python's `end=` or
+    /// `temperature=` for a bot is a mistake) and left alone otherwise (`yokai eval --end`
+    /// over a mixed list).
+    pub fn set_play_rule(&mut self, rule: PlayRule, strict: bool) -> Result<(), SourceError> {
+        match (self, rule.overrides()) {
+            (PolicySource::Trained(p), _) => Ok(rule.apply(p)?),
+            (PolicySource::Builtin(spec), Some(what)) if strict => {
+                Err(SourceError::PlayRuleForBot {
+                    bot: spec.to_string(),
+                    what,
+                })
             }
-            PolicySource::Builtin(_) => Ok(()),
-        }
-    }
-
-    /// Make a trained policy draw its moves at `temperature` (`act.temperature`); a bot
-    /// draws its own, so one is refused when `strict` (Python) and left as it is otherwise
-    /// (`yokai eval --temperature` over a mixed list).
-    pub fn set_temperature(&mut self, temperature: f64, strict: bool) -> Result<(), SourceError> {
-        match self {
-            PolicySource::Trained(p) => Ok(p.set_temperature(temperature)?),
-            PolicySource::Builtin(spec) if strict => {
-                Err(SourceError::TemperatureForBot(spec.to_string()))
-            }
-            PolicySource::Builtin(_) => Ok(()),
+            (PolicySource::Builtin(_), _) => Ok(()),
         }
     }
 
@@ -219,15 +236,27 @@ mod tests {
         let err = PolicySource::parse("runs/nowhere/seed-0").unwrap_err();
         assert!(matches!(err, SourceError::Unknown(_)), "{err}");
         assert!(err.to_string().contains("path of a policy file"), "{err}");
-        // A bot keeps its END rule: refused when strict, left alone otherwise.
+        // A bot keeps its END rule and draws: a rule that changes either is refused when
+        // strict, naming what it changes, and left alone otherwise.
         let mut greedy = PolicySource::parse("greedy").unwrap();
-        assert!(greedy.set_end_rule(EndRule::Draw, false).is_ok());
-        assert!(greedy.set_end_rule(EndRule::File, true).is_ok());
-        let err = greedy.set_end_rule(EndRule::Draw, true).unwrap_err();
-        assert!(
-            err.to_string().contains("`greedy` is not a trained policy"),
-            "{err}"
-        );
+        let draw = PlayRule {
+            end: EndRule::Draw,
+            temperature: None,
+        };
+        let sharp = PlayRule {
+            end: EndRule::File,
+            temperature: Some(0.25),
+        };
+        assert!(greedy.set_play_rule(draw, false).is_ok());
+        assert!(greedy.set_play_rule(sharp, false).is_ok());
+        assert!(greedy.set_play_rule(PlayRule::default(), true).is_ok());
+        for (rule, what) in [(draw, "plays END"), (sharp, "draws its moves")] {
+            let err = greedy.set_play_rule(rule, true).unwrap_err().to_string();
+            assert!(
+                err.contains("`greedy` is not a trained policy") && err.contains(what),
+                "{err}"
+            );
+        }
     }
 
     #[test]
