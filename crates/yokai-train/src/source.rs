@@ -249,8 +249,18 @@ mod tests {
         };
         assert!(greedy.set_play_rule(draw, false).is_ok());
         assert!(greedy.set_play_rule(sharp, false).is_ok());
+        let both = PlayRule {
+            end: EndRule::Threshold(0.6),
+            temperature: Some(0.25),
+        };
+        assert!(greedy.set_play_rule(both, false).is_ok());
         assert!(greedy.set_play_rule(PlayRule::default(), true).is_ok());
-        for (rule, what) in [(draw, "plays END"), (sharp, "draws its moves")] {
+        let cases = [
+            (draw, "plays END"),
+            (sharp, "draws its moves"),
+            (both, "an END rule and a temperature"),
+        ];
+        for (rule, what) in cases {
             let err = greedy.set_play_rule(rule, true).unwrap_err().to_string();
             assert!(
                 err.contains("`greedy` is not a trained policy") && err.contains(what),
