@@ -6,6 +6,9 @@
 #
 #   scripts/gpu-bench.sh [YOKAI_BINARY] [OUT_DIR] [UPDATES] [DEVICE]
 #
+# BENCH_TIMEOUT (seconds, default 280) stops each config's run: the updates that finished
+# inside it are still reported.
+#
 # The binary must be built with the GPU feature:
 #   cargo build --release -p yokai-cli --features vulkan
 set -uo pipefail
@@ -13,14 +16,15 @@ bin=${1:-target/release/yokai}
 out=${2:-out/gpu-bench}
 updates=${3:-3}
 device=${4:-vulkan}
+limit=${BENCH_TIMEOUT:-280}
 mkdir -p "$out"
 for config in ippo-9c-2p ippo-16c-2p; do
     rm -rf "${out:?}/$config"
     echo "== $config on $device: $updates updates"
     # Progress-bar frames are dropped; every other line (an error, a panic) is kept whole.
-    timeout 280 "$bin" train "$config" --device "$device" --seeds 0 --max-updates "$updates" \
+    timeout "$limit" "$bin" train "$config" --device "$device" --seeds 0 --max-updates "$updates" \
         --eval-games 0 --out "$out/$config" 2>&1 | tr '\r' '\n' | grep -v -e '^\s*$' -e '^seed 0 \['
-    echo "exit status ${PIPESTATUS[0]} (124: stopped after 280 s)"
+    echo "exit status ${PIPESTATUS[0]} (124: stopped after $limit s)"
     python3 - "$out/$config/seed-0/metrics.jsonl" <<'PY'
 import json, os, sys
 if not os.path.exists(sys.argv[1]):
