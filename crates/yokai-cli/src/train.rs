@@ -357,14 +357,15 @@ mod tests {
         assert_eq!(cpu, fast);
     }
 
-    /// `cpu-op` says it is `cpu-fast` with Other-Play's symmetries; nothing else may drift.
+    /// `cpu-op` says it is `cpu` (levers and budget) with Other-Play's symmetries; nothing
+    /// else may drift.
     #[test]
-    fn cpu_op_is_cpu_fast_with_the_symmetries() {
-        let (fast, mut op) = (preset("cpu-fast"), preset("cpu-op"));
+    fn cpu_op_is_cpu_with_the_symmetries() {
+        let (cpu, mut op) = (preset("cpu"), preset("cpu-op"));
         assert_eq!(op.algorithm.name, "op");
         assert_eq!(op.algorithm.symmetries, yokai_train::SymmetrySet::Both);
-        op.algorithm = fast.algorithm.clone();
-        assert_eq!(fast, op);
+        op.algorithm = cpu.algorithm.clone();
+        assert_eq!(cpu, op);
     }
 
     /// `obl-cpu` says it is OBL with `cpu-fast`'s levers, 2M steps per level and four
