@@ -17,21 +17,13 @@ out=${2:-out/gpu-bench}
 updates=${3:-3}
 device=${4:-vulkan}
 limit=${BENCH_TIMEOUT:-280}
+. "$(dirname "$0")/gpu-lib.sh"
 mkdir -p "$out"
 for config in ippo-9c-2p ippo-16c-2p; do
     rm -rf "${out:?}/$config"
     echo "== $config on $device: $updates updates"
-    # Progress-bar frames are dropped; every other line (an error, a panic) is kept whole.
     timeout "$limit" "$bin" train "$config" --device "$device" --seeds 0 --max-updates "$updates" \
-        --eval-games 0 --out "$out/$config" 2>&1 | tr '\r' '\n' | grep -v -e '^\s*$' -e '^seed 0 \['
+        --eval-games 0 --out "$out/$config" 2>&1 | quiet
     echo "exit status ${PIPESTATUS[0]} (124: stopped after $limit s)"
-    python3 - "$out/$config/seed-0/metrics.jsonl" <<'PY'
-import json, os, sys
-if not os.path.exists(sys.argv[1]):
-    sys.exit("no update finished")
-for line in open(sys.argv[1]):
-    s = json.loads(line)
-    print(f"update {s['update']}: {s['sps']:.0f} env steps/s end to end, "
-          f"rollout {s['rollout_seconds']:.2f} s, learning {s['learn_seconds']:.2f} s")
-PY
+    "$gpu_scripts/update-times.py" "$out/$config/seed-0/metrics.jsonl"
 done

@@ -7,8 +7,9 @@
 #
 #   BINARY   yokai built with `--features cuda`, stripped; `.xz` is unpacked first
 #   WHEEL    the yokai-learning-environment wheel (abi3), installed with --no-deps
-#   OUT      what comes back (at most 8 files, no subfolders): call.log, bench.txt,
-#            torch-speed.txt, eval-report.md, runs.tar (the trained runs, to resume)
+#   OUT      what comes back (8 files, the device tool's most; no subfolders): call.log,
+#            cubecl.log, bench.txt, torch-speed.txt, eval-report.md, eval-matrix.json,
+#            eval-summary.json, runs.tar (the trained runs, to resume)
 #   SECONDS  wall-clock budget of the whole script (default 560, inside a 600 s call)
 #
 # Phases, each stopped by its own time limit so that a slow or broken one leaves time to
@@ -25,7 +26,7 @@
 # TORCH_SET: the overrides of phase 4 (default: 256 games x 32 steps, 16 minibatches: the
 # `cpu` preset's minibatch of 16 games and its gradient steps per env step, on 4x the games).
 # RUNS_TAR: runs.tar from an earlier call, resumed. A dry run on a CPU-only machine:
-#   DEVICE=cpu scripts/gpu-call.sh target/release/yokai target/wheels/*.whl out/dry 240
+#   DEVICE=cpu scripts/gpu-call.sh target/release/yokai target/wheel/*.whl out/dry 240
 set -uo pipefail
 bin=${1:?usage: gpu-call.sh BINARY WHEEL OUT [SECONDS]}
 wheel=${2:?usage: gpu-call.sh BINARY WHEEL OUT [SECONDS]}
@@ -36,10 +37,9 @@ torch_set=${TORCH_SET:-ppo.num_envs=256 ppo.rollout_steps=32 ppo.minibatches=16}
 start=$(date +%s)
 left() { echo $((budget - ($(date +%s) - start))); }
 here=$(cd "$(dirname "$0")" && pwd)
+. "$here/gpu-lib.sh"
 mkdir -p "$out"
 exec > >(tee -a "$out/call.log") 2>&1
-# Progress-bar frames are dropped; every other line (an error, a panic) is kept whole.
-quiet() { tr '\r' '\n' | grep -v -e '^\s*$' -e '^seed [0-9]* \['; }
 
 if [[ $bin == *.xz ]]; then
     xz -dc "$bin" > /tmp/yokai && chmod +x /tmp/yokai && bin=/tmp/yokai
@@ -50,28 +50,10 @@ echo "== $(date -u +%FT%TZ) $($bin --version 2>&1) on $device; budget $budget s;
 command -v nvidia-smi > /dev/null && nvidia-smi --query-gpu=name,driver_version,memory.total,clocks.sm --format=csv,noheader
 lscpu | grep -m1 'Model name'
 python3 -c 'import torch, yokai; print("torch", torch.__version__, "cuda", torch.cuda.is_available(), "yokai", yokai.__file__)'
-[ "$device" = cuda ] && . "$here/gpu-env.sh"
+[ "$device" = cuda ] && cuda_env
 
 echo "== 1. yokai train quick --device $device, 2 updates ($(left) s left)"
-rm -rf /tmp/gpu-check /tmp/cubecl.log
-# CubeCL logs each kernel it compiles and autotunes: on the H200 (2026-11-27) this check
-# finished no update in 60 s, nor in 230 s, with the GPU idle and its memory growing 2 MiB
-# every few seconds; the log says whether NVRTC compiling (and autotuning) is the time.
-CUBECL_DEBUG_LOG=/tmp/cubecl.log timeout 60 "$bin" train quick --device "$device" --seeds 0 --max-updates 2 --eval-games 0 \
-    --out /tmp/gpu-check 2>&1 | quiet
-rust_ok=${PIPESTATUS[0]}
-echo "exit status $rust_ok"
-if [ -f /tmp/cubecl.log ]; then
-    echo "cubecl.log: $(wc -l < /tmp/cubecl.log) lines"
-    tail -c 4000000 /tmp/cubecl.log > "$out/cubecl.log"
-fi
-if [ "$rust_ok" = 0 ]; then
-    python3 - /tmp/gpu-check/seed-0/metrics.jsonl <<'PY'
-import json, sys
-for line in open(sys.argv[1]):
-    s = json.loads(line)
-    print(f"quick update {s['update']}: {s['sps']:.0f} env steps/s, rollout {s['rollout_seconds']:.2f} s, learning {s['learn_seconds']:.2f} s")
-PY
+if device_check "$bin" "$device" "$out" 60; then
     echo "== 2. the paper's batch in yokai train: ippo-9c-2p, ippo-16c-2p ($(left) s left)"
     BENCH_TIMEOUT=75 "$here/gpu-bench.sh" "$bin" /tmp/gpu-bench 2 "$device" | tee "$out/bench.txt"
 fi
@@ -90,20 +72,11 @@ for row in "${speeds[@]}"; do
     dir=/tmp/torch-speed/$(echo "$name" | tr -c 'a-z0-9' '-')
     rm -rf "$dir"
     sets=(); for s in $set; do sets+=(--set "$s"); done
-    t0=$(date +%s.%N)
+    t0=$SECONDS
     timeout 45 python3 -m yokai.torch_train cpu --out "$dir" --device "$device" "${sets[@]}" \
         --max-updates "$updates" --quiet
-    echo "exit status $? in $(python3 -c "import time; print(round(time.time() - $t0, 1))") s"
-    python3 - "$dir/metrics.jsonl" "$name" <<'PY' | tee -a "$out/torch-speed.txt"
-import json, os, sys
-path, name = sys.argv[1:]
-rows = [json.loads(l) for l in open(path)] if os.path.exists(path) else []
-for s in rows:
-    print(f"{name}: update {s['update']}: {s['sps']:.0f} env steps/s, rollout {s['rollout_seconds']:.2f} s, "
-          f"learning {s['learn_seconds']:.2f} s")
-if not rows:
-    print(f"{name}: no update finished")
-PY
+    echo "exit status $? in $((SECONDS - t0)) s"
+    "$here/update-times.py" "$dir/metrics.jsonl" "$name" | tee -a "$out/torch-speed.txt"
 done
 
 echo "== 4. cpu levers on the GPU, seeds 0-2 side by side ($(left) s left): $torch_set"
@@ -124,8 +97,6 @@ for seed in 0 1 2; do
         --device "$device" --threads 4 "${sets[@]}" "${resume[@]}" 2> "$runs/train-$seed.log" &
     pids+=($!)
 done
-sleep 2
-(command -v nvidia-smi > /dev/null && nvidia-smi --query-gpu=utilization.gpu,memory.used --format=csv,noheader) || true
 [ ${#pids[@]} -gt 0 ] && wait "${pids[@]}"
 for seed in 0 1 2; do
     [ -f "$runs/train-$seed.log" ] && echo "seed $seed: $(tail -1 "$runs/train-$seed.log")"

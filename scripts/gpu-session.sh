@@ -5,7 +5,7 @@
 #   scripts/gpu-session.sh BINARY OUT [SECONDS] [DEVICE] [RUN_TAR]
 #
 #   BINARY   yokai built with `--features cuda` (or vulkan), stripped; `.xz` is unpacked first
-#   OUT      folder for what comes back: session.log, bench-*.txt, the run's metrics and a
+#   OUT      folder for what comes back: session.log, cubecl.log, bench.txt, the run's metrics and a
 #            tar of the run to resume from next time (at most 8 files, none in subfolders)
 #   SECONDS  wall-clock budget for the whole script (default 540, inside a 600 s call)
 #   DEVICE   cuda (default), vulkan or cpu (cpu: a dry run of this script on any machine)
@@ -31,6 +31,7 @@ left() { echo $((budget - ($(date +%s) - start))); }
 mkdir -p "$out"
 exec > >(tee -a "$out/session.log") 2>&1
 here=$(cd "$(dirname "$0")" && pwd)
+. "$here/gpu-lib.sh"
 
 if [[ $bin == *.xz ]]; then
     xz -dc "$bin" > /tmp/yokai && chmod +x /tmp/yokai && bin=/tmp/yokai
@@ -39,21 +40,10 @@ echo "== $(date -u +%FT%TZ) $($bin --version 2>&1) on $device; budget ${budget} 
 command -v nvidia-smi > /dev/null && nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv,noheader
 nproc
 
-[ "$device" = cuda ] && . "$here/gpu-env.sh"
+[ "$device" = cuda ] && cuda_env
 
 echo "== device check: 2 updates of quick on $device"
-rm -rf /tmp/gpu-check
-timeout 120 "$bin" train quick --device "$device" --seeds 0 --max-updates 2 --eval-games 0 \
-    --out /tmp/gpu-check 2>&1 | tr '\r' '\n' | grep -v -e '^\s*$' -e '^seed 0 \['
-status=${PIPESTATUS[0]}
-echo "exit status $status"
-[ "$status" = 0 ] || { echo "the device does not train: stopping here"; exit 1; }
-python3 - /tmp/gpu-check/seed-0/metrics.jsonl <<'PY'
-import json, sys
-for line in open(sys.argv[1]):
-    s = json.loads(line)
-    print(f"quick update {s['update']}: {s['sps']:.0f} env steps/s, rollout {s['rollout_seconds']:.2f} s, learning {s['learn_seconds']:.2f} s")
-PY
+device_check "$bin" "$device" "$out" 120 || { echo "the device does not train: stopping here"; exit 1; }
 
 if [ "${BENCH:-1}" != 0 ]; then
     echo "== the paper's batch: 3 updates each of ippo-9c-2p and ippo-16c-2p ($(left) s left)"
@@ -74,7 +64,7 @@ while :; do
     [ "$(left)" -gt 60 ] || break
     echo "== training $config on $device: $chunk more updates ($(left) s left)"
     timeout $(($(left) - 30)) "$bin" train "$config" --device "$device" --seeds 0 --max-updates "$chunk" \
-        --eval-games 0 --out "$run" "${resume[@]}" 2>&1 | tr '\r' '\n' | grep -v -e '^\s*$' -e '^seed 0 \['
+        --eval-games 0 --out "$run" "${resume[@]}" 2>&1 | quiet
     status=${PIPESTATUS[0]}
     [ "$status" = 0 ] || { echo "training stopped with status $status"; break; }
     resume=(--resume)

@@ -1,0 +1,44 @@
+# Sourced by the GPU scripts (gpu-session.sh, gpu-call.sh, gpu-bench.sh): what each of them
+# needs on a machine with an NVIDIA GPU and no Rust toolchain.
+
+# Progress-bar frames are dropped; every other line (an error, a panic) is kept whole.
+quiet() { tr '\r' '\n' | grep -v -e '^\s*$' -e '^seed [0-9]* \['; }
+
+# Point burn's CUDA runtime at the CUDA headers and NVRTC when CUDA_PATH / LD_LIBRARY_PATH
+# do not already say where they are. NVRTC compiles every kernel against the CUDA headers
+# (CUDA_PATH/include/cuda_fp16.h); the toolkit or the pip wheels of PyTorch's CUDA hold them.
+cuda_env() {
+    if [ -z "${CUDA_PATH:-}" ] && [ ! -f /usr/local/cuda/include/cuda_fp16.h ]; then
+        for d in $(python3 -c 'import nvidia, os; [print(os.path.join(p, s)) for p in nvidia.__path__ for s in sorted(os.listdir(p))]' 2> /dev/null); do
+            if [ -f "$d/include/cuda_fp16.h" ]; then export CUDA_PATH=$d; break; fi
+        done
+    fi
+    # libnvrtc.so.13 (cudarc loads it by that name): the toolkit's lib64, else the pip wheels'.
+    for d in "${CUDA_PATH:-/usr/local/cuda}/lib64" /usr/local/cuda/lib64 \
+        $(python3 -c 'import nvidia, os; [print(os.path.join(r, "")) for p in nvidia.__path__ for r, _, fs in os.walk(p) if any(f.startswith("libnvrtc.so") for f in fs)]' 2> /dev/null); do
+        if ls "$d"/libnvrtc.so* > /dev/null 2>&1; then export LD_LIBRARY_PATH="$d:${LD_LIBRARY_PATH:-}"; break; fi
+    done
+    echo "CUDA_PATH=${CUDA_PATH:-(unset: /usr/local/cuda)} LD_LIBRARY_PATH=${LD_LIBRARY_PATH:-}"
+}
+
+# device_check BINARY DEVICE OUT SECONDS: 2 updates of `quick` on DEVICE, stopped after
+# SECONDS; prints each update's split and returns the training's exit status. CubeCL logs
+# every kernel it compiles and autotunes into OUT/cubecl.log (its last 4 MB): on the H200
+# (2026-11-27) this check finished no update in 60 s, nor in 230 s, with the GPU idle and
+# its memory growing 2 MiB every few seconds; the log says whether compiling is the time.
+device_check() {
+    local bin=$1 device=$2 out=$3 seconds=$4 status
+    rm -rf /tmp/gpu-check /tmp/cubecl.log
+    CUBECL_DEBUG_LOG=/tmp/cubecl.log timeout "$seconds" "$bin" train quick --device "$device" \
+        --seeds 0 --max-updates 2 --eval-games 0 --out /tmp/gpu-check 2>&1 | quiet
+    status=${PIPESTATUS[0]}
+    echo "exit status $status (124: stopped after $seconds s)"
+    if [ -f /tmp/cubecl.log ]; then
+        echo "cubecl.log: $(wc -l < /tmp/cubecl.log) lines"
+        tail -c 4000000 /tmp/cubecl.log > "$out/cubecl.log"
+    fi
+    "$gpu_scripts/update-times.py" /tmp/gpu-check/seed-0/metrics.jsonl quick
+    return "$status"
+}
+
+gpu_scripts=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
