@@ -97,8 +97,12 @@ impl Backend {
         }
         match self {
             Backend::Cpu => Ok(crate::device::default_device()),
+            // wgpu's best adapter: a discrete GPU first, else an integrated one, else a CPU
+            // driver (Mesa's lavapipe starts, but crashes in burn's matrix-product kernels:
+            // docs/results/vulkan-lavapipe.md); `CUBECL_WGPU_DEFAULT_DEVICE=IntegratedGpu(0)`
+            // picks another. Was `DiscreteGpu(0)`, which refused every other adapter.
             #[cfg(feature = "vulkan")]
-            Backend::Vulkan => Ok(Device::vulkan(burn::tensor::DeviceKind::DiscreteGpu(0))),
+            Backend::Vulkan => Ok(Device::vulkan(burn::tensor::DeviceKind::DefaultDevice)),
             #[cfg(feature = "cuda")]
             Backend::Cuda => Ok(Device::cuda(0)),
             #[allow(unreachable_patterns)]
@@ -170,7 +174,8 @@ impl Backend {
             Backend::Cpu => "nothing",
             Backend::Vulkan => {
                 "needs a Vulkan loader (libvulkan.so.1) and the GPU driver's Vulkan ICD; \
-                 set VK_DRIVER_FILES to the driver's ICD json if the loader does not find it"
+                 set VK_DRIVER_FILES to the driver's ICD json if the loader does not find it, \
+                 CUBECL_WGPU_DEFAULT_DEVICE (e.g. `DiscreteGpu(1)`) to choose among adapters"
             }
             Backend::Cuda => {
                 "needs the NVIDIA driver (libcuda.so), NVRTC (libnvrtc.so, on LD_LIBRARY_PATH) \
@@ -267,7 +272,7 @@ mod tests {
         #[cfg(feature = "vulkan")]
         assert_eq!(
             Backend::Vulkan.raw_device().unwrap(),
-            Device::vulkan(burn::tensor::DeviceKind::DiscreteGpu(0))
+            Device::vulkan(burn::tensor::DeviceKind::DefaultDevice)
         );
         #[cfg(feature = "cuda")]
         assert_eq!(Backend::Cuda.raw_device().unwrap(), Device::cuda(0));
