@@ -34,7 +34,8 @@ device_check() {
     status=${PIPESTATUS[0]}
     echo "exit status $status (124: stopped after $seconds s)"
     if [ -f /tmp/cubecl.log ]; then
-        echo "cubecl.log: $(wc -l < /tmp/cubecl.log) lines"
+        echo "cubecl.log: $(wc -l < /tmp/cubecl.log) lines, $(grep -c START_KERNEL_COMPILATION /tmp/cubecl.log)" \
+            "kernels compiled, $(grep -c '^Autotune\[' /tmp/cubecl.log) autotune timings"
         tail -c 4000000 /tmp/cubecl.log > "$out/cubecl.log"
     fi
     "$gpu_scripts/update-times.py" /tmp/gpu-check/seed-0/metrics.jsonl quick
