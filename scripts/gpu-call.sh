@@ -57,7 +57,7 @@ echo "== 1. yokai train quick --device $device, 2 updates ($(left) s left)"
 checked=0
 device_check "$bin" "$device" "$out" 60 && checked=1
 if [ $checked = 0 ] && [ "$device" != cpu ]; then
-    # CubeCL times every candidate kernel of every new shape by default; the least of it:
+    # CubeCL's autotune times candidate kernels for every new shape key; `minimal` the fewest:
     echo "== 1b. the same with CUBECL_AUTOTUNE_LEVEL=minimal ($(left) s left)"
     mkdir -p /tmp/check-minimal
     CUBECL_AUTOTUNE_LEVEL=minimal device_check "$bin" "$device" /tmp/check-minimal 45 && checked=1

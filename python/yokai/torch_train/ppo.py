@@ -50,10 +50,11 @@ def draw(probs: torch.Tensor, generator: torch.Generator) -> torch.Tensor:
     generator, so a seed gives the same uniforms on every device).
 
     Why not ``torch.multinomial``: with a CPU generator the probabilities must come back
-    to the CPU, and there its draw of 1,024 rows × 777 actions took about 30 ms, one thread
-    (measured 2026-11-27), most of the 35 ms per rollout step the H200 run spent
-    (docs/results/gpu-h200.md). A cumulative sum and a sorted search are two kernels on
-    the device; an action of probability 0 is never drawn (its interval is empty)."""
+    to the CPU, and there its draw of 1,024 rows × 777 actions took 29–44 ms on one thread
+    (measured 2026-11-27 on a 2-core machine, docs/results/torch-draw.md): likely most of
+    the 35 ms per rollout step the H200 run spent (docs/results/gpu-h200.md), not yet
+    measured there. A cumulative sum and a sorted search are two kernels on the device; an
+    action of probability 0 is never drawn (its interval is empty)."""
     u = torch.rand(probs.shape[0], 1, generator=generator).to(probs.device)
     cdf = probs.cumsum(1)
     drawn = torch.searchsorted(cdf, u * cdf[:, -1:], right=True)
