@@ -15,7 +15,8 @@
 # Phases, each stopped by its own time limit so that a slow or broken one leaves time to
 # the next:
 #   1. `yokai train quick --device cuda`, 2 updates: does burn's CUDA runtime train at all;
-#      if not, again with CUBECL_AUTOTUNE_LEVEL=minimal (its CubeCL log is not kept);
+#      if not, again with CUBECL_AUTOTUNE_LEVEL=minimal, kept for the phases after it when
+#      it trains (`device_check` in gpu-lib.sh);
 #   2. if it does, `scripts/gpu-bench.sh` (2 updates each of ippo-9c-2p and ippo-16c-2p at
 #      the paper's batch, 1,024 games x 128 steps, 4 epochs x 4 minibatches);
 #   3. the PyTorch trainer's speed on the GPU with the `cpu` preset's network and levers:
@@ -54,15 +55,7 @@ python3 -c 'import torch, yokai; print("torch", torch.__version__, "cuda", torch
 [ "$device" = cuda ] && cuda_env
 
 echo "== 1. yokai train quick --device $device, 2 updates ($(left) s left)"
-checked=0
-device_check "$bin" "$device" "$out" 60 && checked=1
-if [ $checked = 0 ] && [ "$device" != cpu ]; then
-    # CubeCL's autotune times candidate kernels for every new shape key; `minimal` the fewest:
-    echo "== 1b. the same with CUBECL_AUTOTUNE_LEVEL=minimal ($(left) s left)"
-    mkdir -p /tmp/check-minimal
-    CUBECL_AUTOTUNE_LEVEL=minimal device_check "$bin" "$device" /tmp/check-minimal 45 && checked=1
-fi
-if [ $checked = 1 ]; then
+if device_check "$bin" "$device" "$out" 60; then
     echo "== 2. the paper's batch in yokai train: ippo-9c-2p, ippo-16c-2p ($(left) s left)"
     BENCH_TIMEOUT=75 "$here/gpu-bench.sh" "$bin" /tmp/gpu-bench 2 "$device" | tee "$out/bench.txt"
 fi

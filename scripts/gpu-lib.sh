@@ -26,7 +26,21 @@ cuda_env() {
 # every kernel it compiles and autotunes into OUT/cubecl.log (its last 4 MB): on the H200
 # (2026-11-27) this check finished no update in 60 s, nor in 230 s, with the GPU idle and
 # its memory growing 2 MiB every few seconds; the log says whether compiling is the time.
+# On a GPU that fails, it tries once more with CUBECL_AUTOTUNE_LEVEL=minimal (CubeCL's
+# autotune times candidate kernels for every new shape key; `minimal` the fewest; that log
+# is not kept) and, if that trains, exports the setting, so every later run of the calling
+# script trains the way the check did.
 device_check() {
+    one_check "$@" && return 0
+    [ "$2" != cpu ] && [ -z "${CUBECL_AUTOTUNE_LEVEL:-}" ] || return 1
+    echo "== the same with CUBECL_AUTOTUNE_LEVEL=minimal"
+    mkdir -p /tmp/check-minimal
+    CUBECL_AUTOTUNE_LEVEL=minimal one_check "$1" "$2" /tmp/check-minimal "$4" || return 1
+    export CUBECL_AUTOTUNE_LEVEL=minimal
+    echo "CUBECL_AUTOTUNE_LEVEL=minimal from here on"
+}
+
+one_check() {
     local bin=$1 device=$2 out=$3 seconds=$4 status
     rm -rf /tmp/gpu-check /tmp/cubecl.log
     CUBECL_DEBUG_LOG=/tmp/cubecl.log timeout "$seconds" "$bin" train quick --device "$device" \
