@@ -175,12 +175,13 @@ class Trainer:
             choosing = (legal > 1).nonzero().squeeze(1)
             if len(choosing):
                 logits, _ = m.heads(obs[choosing], h[choosing])
-                lp = masked_log_softmax(logits, mask[choosing])
+                mask_c = mask[choosing]
+                lp = masked_log_softmax(logits, mask_c)
                 probs = lp.exp()
                 drawn = draw(probs, self.generator)
                 actions[choosing] = drawn
                 logp[choosing] = lp.gather(1, drawn.unsqueeze(1)).squeeze(1)
-                entropy_sum += -(probs * lp * mask[choosing]).sum()
+                entropy_sum += -(probs * lp * mask_c).sum()
             acting_rows += self.env.num_envs
             # What END pays, on the acting rows (TrainEnv gives 0 where END is illegal).
             acting = torch.from_numpy(view["acting_seat"].astype(np.int64)) + torch.arange(0, rows, p)
