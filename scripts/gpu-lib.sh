@@ -29,18 +29,20 @@ cuda_env() {
 # without (docs/results/gpu-h200-2.md): yokai-train's `cuda` feature now leaves autotune
 # out, and the log says whether what is left compiles in time.
 device_check() {
-    local bin=$1 device=$2 out=$3 seconds=$4 status sampler
+    local bin=$1 device=$2 out=$3 seconds=$4 status sampler=
     rm -rf /tmp/gpu-check /tmp/cubecl.log
-    # Every 30 s: kernels compiled so far, and what the GPU is doing meanwhile.
-    (while sleep 30; do
-        echo "  $(grep -c START_KERNEL_COMPILATION /tmp/cubecl.log 2> /dev/null) kernels compiled;" \
-            "GPU $(nvidia-smi --query-gpu=utilization.gpu,memory.used --format=csv,noheader 2> /dev/null)"
-    done) &
-    sampler=$!
+    # Every 30 s on a GPU: kernels compiled so far, and what the GPU is doing meanwhile.
+    if [ "$device" != cpu ]; then
+        (while sleep 30; do
+            echo "  $(grep -c START_KERNEL_COMPILATION /tmp/cubecl.log 2> /dev/null) kernels compiled;" \
+                "GPU $(nvidia-smi --query-gpu=utilization.gpu,memory.used --format=csv,noheader 2> /dev/null)"
+        done) &
+        sampler=$!
+    fi
     CUBECL_DEBUG_LOG=/tmp/cubecl.log timeout "$seconds" "$bin" train quick --device "$device" \
         --seeds 0 --max-updates 2 --eval-games 0 --out /tmp/gpu-check 2>&1 | quiet
     status=${PIPESTATUS[0]}
-    kill "$sampler" 2> /dev/null
+    [ -n "${sampler:-}" ] && kill "$sampler" 2> /dev/null
     echo "exit status $status (124: stopped after $seconds s)"
     if [ -f /tmp/cubecl.log ]; then
         echo "cubecl.log: $(wc -l < /tmp/cubecl.log) lines, $(grep -c START_KERNEL_COMPILATION /tmp/cubecl.log)" \
