@@ -28,13 +28,16 @@ cuda_env() {
 # 275 s, the GPU idle, one kernel compiled a second, with CUBECL_AUTOTUNE_LEVEL=minimal as
 # without (docs/results/gpu-h200-2.md): yokai-train's `cuda` feature now leaves autotune
 # out, and the log says whether what is left compiles in time.
+# Kernels CubeCL has begun compiling so far, from its log.
+kernels_compiled() { grep -c START_KERNEL_COMPILATION /tmp/cubecl.log 2> /dev/null; }
+
 device_check() {
     local bin=$1 device=$2 out=$3 seconds=$4 status sampler=
     rm -rf /tmp/gpu-check /tmp/cubecl.log
     # Every 30 s on a GPU: kernels compiled so far, and what the GPU is doing meanwhile.
     if [ "$device" != cpu ]; then
         (while sleep 30; do
-            echo "  $(grep -c START_KERNEL_COMPILATION /tmp/cubecl.log 2> /dev/null) kernels compiled;" \
+            echo "  $(kernels_compiled) kernels compiled;" \
                 "GPU $(nvidia-smi --query-gpu=utilization.gpu,memory.used --format=csv,noheader 2> /dev/null)"
         done) &
         sampler=$!
@@ -42,10 +45,10 @@ device_check() {
     CUBECL_DEBUG_LOG=/tmp/cubecl.log timeout "$seconds" "$bin" train quick --device "$device" \
         --seeds 0 --max-updates 2 --eval-games 0 --out /tmp/gpu-check 2>&1 | quiet
     status=${PIPESTATUS[0]}
-    [ -n "${sampler:-}" ] && kill "$sampler" 2> /dev/null
+    [ -n "$sampler" ] && kill "$sampler" 2> /dev/null
     echo "exit status $status (124: stopped after $seconds s)"
     if [ -f /tmp/cubecl.log ]; then
-        echo "cubecl.log: $(wc -l < /tmp/cubecl.log) lines, $(grep -c START_KERNEL_COMPILATION /tmp/cubecl.log)" \
+        echo "cubecl.log: $(wc -l < /tmp/cubecl.log) lines, $(kernels_compiled)" \
             "kernels compiled, $(grep -c '^Autotune\[' /tmp/cubecl.log) autotune timings"
         tail -c 4000000 /tmp/cubecl.log > "$out/cubecl.log"
     fi
