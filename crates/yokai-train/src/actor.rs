@@ -5,16 +5,25 @@
 //! framework sees the games, the Other-Play symmetries and the centralised-training
 //! columns exactly as this one does.
 
-use crate::config::TrainConfig;
+use crate::config::{ColourNames, TrainConfig};
 use crate::error::TrainError;
 use yokai_engine::{
-    derive_seed, Action, Card, Config, EpisodeRecord, Game, RecordedGame, Seat, Symmetry,
+    derive_seed, Action, Card, ColourLabels, Config, EpisodeRecord, Game, RecordedGame, Seat,
+    Symmetry,
 };
 use yokai_vec::{episode_seed, Encoding, VecEnv, VecEnvOptions};
 
 /// The seed of a run's batch of games.
 fn env_seed(run_seed: u64) -> u64 {
     derive_seed(run_seed, 0xE5)
+}
+
+/// The seats of `game` (one [`ColourLabels`] each, in seat order) note the colours they
+/// see after its latest step.
+fn note_colours(seats: &mut [ColourLabels], game: &Game) {
+    for (s, l) in seats.iter_mut().enumerate() {
+        l.update(&game.view(Seat(s as u8)));
+    }
 }
 
 /// The games of one run, as its seats see and play them. Row `r` of every buffer is seat
@@ -31,6 +40,10 @@ pub struct Actor {
     symmetries: Vec<Symmetry>,
     /// Per row: the seat's symmetry this episode and its inverse.
     row_sym: Vec<(Symmetry, Symmetry)>,
+    /// With `network.colours = "first-seen"`, per row: the seat's colour names so far this
+    /// episode, which replace its symmetry's colour permutation (they name the colours
+    /// whatever the deal or a permutation called them).
+    labels: Option<Vec<ColourLabels>>,
     /// Every row's recurrent memory `[rows × H]`, after the last observation it read.
     pub memory: Vec<f32>,
     /// Per game: the acting seats' actions so far in its current episode.
@@ -58,16 +71,23 @@ impl Actor {
         let env = VecEnv::<f32>::new(game, options)?;
         let s = config.algorithm.symmetries;
         let symmetries = Symmetry::enumerate(&game, s.colours(), s.rotations(), false);
-        Ok(Actor::new(env, seed, env_seed(seed), symmetries, hidden))
+        Ok(Actor::new(
+            env,
+            seed,
+            env_seed(seed),
+            (symmetries, config.network.colours),
+            hidden,
+        ))
     }
 
     /// `env`'s games seen through `symmetries` (each seat draws one per episode from
-    /// `seed`), every memory of width `hidden` zeroed.
+    /// `seed`) with its colours named as `colours` says, every memory of width `hidden`
+    /// zeroed.
     pub fn new(
         env: VecEnv<f32>,
         seed: u64,
         env_seed: u64,
-        symmetries: Vec<Symmetry>,
+        (symmetries, colours): (Vec<Symmetry>, ColourNames),
         hidden: usize,
     ) -> Actor {
         let game = *env.config();
@@ -83,6 +103,8 @@ impl Actor {
             encoding,
             symmetries,
             row_sym: vec![(identity, identity); n * p],
+            labels: (colours == ColourNames::FirstSeen)
+                .then(|| vec![ColourLabels::new(&game, 0); n * p]),
             memory: vec![0.0; n * p * hidden],
             history: vec![Vec::new(); n],
             last_game: None,
@@ -112,9 +134,14 @@ impl Actor {
         self.n_actions
     }
 
-    /// The symmetry row `row` sees its game through.
+    /// The symmetry row `row` sees its game through: its Other-Play symmetry, with its
+    /// colour permutation replaced by the seat's first-seen colour names where the network
+    /// reads those.
     pub fn symmetry(&self, row: usize) -> Symmetry {
-        self.row_sym[row].0
+        match &self.labels {
+            None => self.row_sym[row].0,
+            Some(labels) => labels[row].symmetry(&self.game, self.row_sym[row].0),
+        }
     }
 
     /// Other-Play: each seat of game `env` draws its own symmetry for the game's current
@@ -131,6 +158,19 @@ impl Actor {
             let sym = self.symmetries[pick as usize];
             self.row_sym[env * p + s] = (sym, sym.inverse());
         }
+        if let Some(labels) = &mut self.labels {
+            let seats = &mut labels[env * p..][..p];
+            for (s, l) in seats.iter_mut().enumerate() {
+                *l = ColourLabels::new(&self.game, derive_seed(episode_stream, 0x100 + s as u64));
+            }
+            note_colours(seats, self.env.game(env));
+        }
+    }
+
+    /// With `network.colours = "first-seen"`: the colour names of row `row`'s seat so far
+    /// this episode.
+    pub fn colour_labels(&self, row: usize) -> Option<ColourLabels> {
+        self.labels.as_ref().map(|l| l[row])
     }
 
     /// Every row's observation and legal mask as its seat sees them (its symmetry applied).
@@ -139,7 +179,8 @@ impl Actor {
         let src_obs = self.env.observations();
         let src_masks = self.env.legal_masks();
         let mut mask_f = vec![0f32; na];
-        for (r, (sym, _)) in self.row_sym.iter().enumerate() {
+        for r in 0..self.row_sym.len() {
+            let sym = self.symmetry(r);
             let o_in = &src_obs[r * l..][..l];
             let o_out = &mut obs[r * l..][..l];
             for (m, &b) in mask_f.iter_mut().zip(&src_masks[r * na..][..na]) {
@@ -168,7 +209,7 @@ impl Actor {
     /// (its symmetry's relabelling applied).
     pub fn view_truth(&self, row: usize, out: &mut [u8]) {
         let game = self.env.game(row / self.game.players());
-        let sym = self.row_sym[row].0;
+        let sym = self.symmetry(row);
         for (k, colour) in out.iter_mut().enumerate() {
             *colour = sym.map_colour(game.colour_of(Card(k as u8))).0;
         }
@@ -244,6 +285,9 @@ impl Actor {
                 self.draw_symmetries(i);
             } else {
                 self.history[i].push(action);
+                if let Some(labels) = &mut self.labels {
+                    note_colours(&mut labels[i * p..][..p], self.env.game(i));
+                }
             }
         }
         Ok(())
@@ -284,8 +328,33 @@ impl Actor {
         self.memory = memory;
         for i in 0..self.env.num_envs() {
             self.draw_symmetries(i);
+            self.replay_colours(i);
         }
         Ok(())
+    }
+
+    /// With first-seen colour names: game `i`'s seats name the colours of its current
+    /// episode as they did when it was played, by replaying it from its deal (the names
+    /// follow the episode step by step, so the game as it stands is not enough).
+    fn replay_colours(&mut self, i: usize) {
+        if self.labels.is_none() {
+            return;
+        }
+        let (mut game, actions) = self.episode_so_far(i);
+        let (actions, p) = (actions.to_vec(), self.game.players());
+        let Some(labels) = &mut self.labels else {
+            return;
+        };
+        let seats = &mut labels[i * p..][..p];
+        for l in seats.iter_mut() {
+            *l = l.restart();
+        }
+        note_colours(seats, &game);
+        for a in actions {
+            game.apply_index(a as usize)
+                .expect("actions the environment has just replayed");
+            note_colours(seats, &game);
+        }
     }
 
     /// The last game of env 0 that finished, as played in training (deal and actions).

@@ -3,7 +3,7 @@
 
 use crate::artifact::safetensors;
 use crate::artifact::{check_game, FileHeader, PolicyFile};
-use crate::config::{ActConfig, TrainConfig};
+use crate::config::{ActConfig, ColourNames, TrainConfig};
 use crate::device::default_device;
 use crate::distribution::{decide_end_row, draw_row};
 use crate::error::TrainError;
@@ -14,7 +14,7 @@ use rand_chacha::rand_core::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use std::path::{Path, PathBuf};
 use yokai_agents::Policy;
-use yokai_engine::{Action, Config, Game, Seat, SeatView};
+use yokai_engine::{derive_seed, Action, ColourLabels, Config, Game, Seat, SeatView, Symmetry};
 use yokai_vec::Encoding;
 
 /// A loaded network of any type, behind what a policy needs of it. Which type it is was
@@ -284,6 +284,11 @@ pub struct NetworkPolicy<E: Encoder, M: Recurrent = GruCell> {
     hidden: Vec<f32>,
     obs: Vec<f32>,
     mask: Vec<f32>,
+    /// With `network.colours = "first-seen"`: the seat's colour names this game (drawn
+    /// again at every reset), and the observation as the game names the colours.
+    labels: Option<ColourLabels>,
+    dealt: Vec<f32>,
+    game: Config,
     /// Set when `act` already stepped the memory for the current game step.
     stepped: bool,
     rng: ChaCha8Rng,
@@ -305,6 +310,10 @@ impl<E: Encoder, M: Recurrent> NetworkPolicy<E, M> {
             device: from.device.clone(),
             obs: vec![0.0; len],
             mask: vec![0.0; from.game.num_actions()],
+            labels: (from.config.network.colours == ColourNames::FirstSeen)
+                .then(|| labels_for(&from.game, seed)),
+            dealt: vec![0.0; len],
+            game: from.game,
             stepped: false,
             rng: ChaCha8Rng::seed_from_u64(seed),
             end_threshold: from.end_threshold,
@@ -317,12 +326,30 @@ impl<E: Encoder, M: Recurrent> NetworkPolicy<E, M> {
     /// Step the memory on `view`; returns the observation and the new state as tensors,
     /// for `act` to run the actor on.
     fn remember(&mut self, view: &SeatView<'_>) -> (Tensor<2>, Tensor<2>) {
+        let out = match self.labels {
+            Some(_) => &mut self.dealt,
+            None => &mut self.obs,
+        };
         match E::encoding() {
-            Encoding::Image(part, layout) => view.write_image_in(part, layout, &mut self.obs),
-            Encoding::Graph(part) => view.write_nodes(part, &mut self.obs),
+            Encoding::Image(part, layout) => view.write_image_in(part, layout, out),
+            Encoding::Graph(part) => view.write_nodes(part, out),
             Encoding::None => Ok(()),
         }
         .expect("buffers sized from the policy's own game config");
+        if let Some(labels) = &mut self.labels {
+            labels.update(view);
+            let sym = labels.symmetry(&self.game, Symmetry::identity(&self.game));
+            match E::encoding() {
+                Encoding::Image(part, layout) => {
+                    sym.apply_image_in(&self.game, part, layout, &self.dealt, &mut self.obs)
+                }
+                Encoding::Graph(part) => {
+                    sym.apply_nodes(&self.game, part, &self.dealt, &mut self.obs)
+                }
+                Encoding::None => Ok(()),
+            }
+            .expect("buffers sized from the policy's own game config");
+        }
         let d = &self.device;
         let h = self.hidden.len();
         let obs = Tensor::from_data(TensorData::new(self.obs.clone(), [1, self.obs.len()]), d);
@@ -344,6 +371,9 @@ impl<E: Encoder, M: Recurrent> Policy for NetworkPolicy<E, M> {
         self.hidden.iter_mut().for_each(|h| *h = 0.0);
         self.stepped = false;
         self.rng = ChaCha8Rng::seed_from_u64(seed);
+        if self.labels.is_some() {
+            self.labels = Some(labels_for(&self.game, seed));
+        }
     }
     fn act(&mut self, view: &SeatView<'_>) -> Action {
         let (obs, state) = self.remember(view);
@@ -373,5 +403,64 @@ impl<E: Encoder, M: Recurrent> Policy for NetworkPolicy<E, M> {
         } else {
             self.remember(before);
         }
+    }
+}
+
+/// A seat's first-seen colour names for a new game, their ties drawn from the seat's seed.
+fn labels_for(game: &Config, seed: u64) -> ColourLabels {
+    ColourLabels::new(game, derive_seed(seed, 0xC0))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::network::MlpEncoder;
+    use crate::trainer::Trainer;
+
+    /// A network that reads first-seen colour names sees, seated as a [`Policy`], the same
+    /// observation at every step as the trainer showed it (given the same tie rank): the
+    /// names follow the episode in both, so a policy plays with the names it learnt with.
+    #[test]
+    fn a_first_seen_policy_reads_in_play_what_it_read_in_training() {
+        let config = TrainConfig::from_toml_str(
+            r#"
+game = "9c-2p-perfect"
+[network]
+preset = "compact"
+hidden = 16
+colours = "first-seen"
+[ppo]
+num_envs = 8
+rollout_steps = 16
+total_steps = 512
+[run]
+threads = 1
+"#,
+            "tiny first-seen",
+        )
+        .unwrap();
+        let mut trainer = Trainer::<MlpEncoder>::new(config, 4).unwrap();
+        trainer.update().unwrap();
+        let policy = TrainedPolicy::load_bytes(&trainer.policy().to_bytes(), "tiny").unwrap();
+        let game = *trainer.env().config();
+        let (obs, _) = trainer.views();
+        let l = obs.len() / (8 * game.players());
+        let mut named = 0;
+        for row in 0..8 * game.players() {
+            let (i, seat) = (row / game.players(), Seat((row % game.players()) as u8));
+            let labels = trainer.actor().colour_labels(row).unwrap();
+            named += (labels.seen() >= 2) as usize;
+            let mut seated = NetworkPolicy::new(trainer.model().clone(), &policy, 0);
+            seated.labels = Some(labels.restart());
+            let (mut replay, actions) = trainer.actor().episode_so_far(i);
+            seated.remember(&replay.view(seat));
+            for &a in actions {
+                replay.apply_index(a as usize).unwrap();
+                seated.remember(&replay.view(seat));
+            }
+            assert_eq!(seated.labels, Some(labels), "row {row}");
+            assert_eq!(seated.obs, obs[row * l..][..l], "row {row}");
+        }
+        assert!(named >= 4, "only {named} seats have seen two colours");
     }
 }

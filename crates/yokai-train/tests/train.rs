@@ -291,7 +291,9 @@ fn resume_continues_exactly_like_an_uninterrupted_run() {
     obl2.obl.previous = Some(level_one);
     obl2.obl.belief_updates = 3;
     obl2.obl.belief_hidden = 8;
-    for config in [tiny(SymmetrySet::Both, 4), obl, obl2] {
+    let mut first_seen = tiny(SymmetrySet::Both, 4);
+    first_seen.network.colours = yokai_train::ColourNames::FirstSeen;
+    for config in [tiny(SymmetrySet::Both, 4), first_seen, obl, obl2] {
         let whole = one_thread(|| {
             let mut t = Trainer::<MlpEncoder>::new(config.clone(), 9).unwrap();
             for _ in 0..4 {
@@ -1059,6 +1061,40 @@ fn belief_targets_name_colours_as_each_seat_sees_them() {
         }
     }
     assert!(checked > 20, "{checked} known cards checked");
+}
+
+/// With first-seen colour names (`network.colours = "first-seen"`) a seat's view no
+/// longer depends on how the colours are named, so Other-Play's colour permutations change
+/// nothing: runs with and without them (belief targets included) give the same parameters
+/// bit for bit, while with dealt names the permutations change the run.
+#[test]
+fn first_seen_colour_names_make_colour_permutations_a_no_op() {
+    let run = |symmetries: SymmetrySet, colours: yokai_train::ColourNames| {
+        let mut c = tiny(symmetries, 3);
+        c.network.head = yokai_train::ActionHead::Pointer;
+        c.ppo.belief_aux = 1.0;
+        c.network.colours = colours;
+        one_thread(|| {
+            let mut t = Trainer::<MlpEncoder>::new(c, 6).unwrap();
+            for _ in 0..3 {
+                t.update().unwrap();
+            }
+            t.parameters()
+        })
+    };
+    use yokai_train::ColourNames::{Dealt, FirstSeen};
+    assert_eq!(
+        run(SymmetrySet::None, FirstSeen),
+        run(SymmetrySet::Colour, FirstSeen)
+    );
+    assert_ne!(
+        run(SymmetrySet::None, Dealt),
+        run(SymmetrySet::Colour, Dealt)
+    );
+    assert_ne!(
+        run(SymmetrySet::None, Dealt),
+        run(SymmetrySet::None, FirstSeen)
+    );
 }
 
 #[test]

@@ -21,8 +21,8 @@ mod run;
 pub use act::ActConfig;
 pub use algorithm::{AlgorithmConfig, SymmetrySet};
 pub use network::{
-    ActionHead, CriticInput, EncoderKind, GraphReadout, MemoryKind, NetworkConfig, NetworkPreset,
-    GRAPH_HEADS,
+    ActionHead, ColourNames, CriticInput, EncoderKind, GraphReadout, MemoryKind, NetworkConfig,
+    NetworkPreset, GRAPH_HEADS,
 };
 pub use obl::{OblConfig, OblPartner};
 pub use overrides::Override;
@@ -192,6 +192,13 @@ impl TrainConfig {
                     "network.critic",
                     "OBL's value targets come from fictitious continuations, whose colours \
                      the seat's belief drew: set it to \"local\"",
+                );
+            }
+            if n.colours == ColourNames::FirstSeen {
+                return bad(
+                    "network.colours",
+                    "OBL steps its partners from bare game states, which do not keep a \
+                     seat's first-seen colour names: set it to \"dealt\"",
                 );
             }
         }
@@ -375,6 +382,22 @@ mod tests {
         assert!(e.contains("network.critic") && e.contains("local"), "{e}");
         let e = refused("[network]\ncritic = \"oracle\"\n", "x");
         assert!(e.contains("oracle") && e.contains("central"), "{e}");
+        // First-seen colour names: any algorithm but OBL, whose partners step from bare
+        // game states; a misspelt value lists the accepted ones.
+        let e = refused(
+            "[network]\ncolours = \"first-seen\"\n[obl]\nlevel = 1\n",
+            "x",
+        );
+        assert!(e.contains("network.colours") && e.contains("dealt"), "{e}");
+        let e = refused("[network]\ncolours = \"first_seen\"\n", "x");
+        assert!(e.contains("first_seen") && e.contains("first-seen"), "{e}");
+        let c = TrainConfig::from_toml_str(
+            "[algorithm]\nsymmetries = \"both\"\n[network]\ncolours = \"first-seen\"\n",
+            "x",
+        )
+        .unwrap();
+        assert_eq!(c.network.colours, ColourNames::FirstSeen);
+        assert_eq!(TrainConfig::default().network.colours, ColourNames::Dealt);
         // Under OBL the END term reads the world drawn from the belief (trainer/addons/end.rs).
         assert!(
             TrainConfig::from_toml_str("[ppo]\nend_lookahead = 0.5\n[obl]\nlevel = 1\n", "x")

@@ -49,6 +49,10 @@ pub struct NetworkConfig {
     /// What the critic reads: `local` (the seat's memory, as the actor; the paper's) or
     /// `central` (also every card's true colour, in training only).
     pub critic: CriticInput,
+    /// How the network names the colours: `dealt` (as the deal names them, the paper's) or
+    /// `first-seen` (by the order in which the seat first saw them, so that no convention
+    /// can hang on a colour's name: [`ColourNames`]).
+    pub colours: ColourNames,
 }
 
 impl Default for NetworkConfig {
@@ -73,6 +77,7 @@ impl Default for NetworkConfig {
             actor_gain: 0.01,
             critic_gain: 1.0,
             critic: CriticInput::Local,
+            colours: ColourNames::Dealt,
         }
     }
 }
@@ -253,4 +258,23 @@ pub enum CriticInput {
     /// The memory state and every card's true colour (one-hot, in the seat's colour
     /// labels), through one more layer of the memory's width with a ReLU.
     Central,
+}
+
+/// How the network names the colours (`network.colours`). Why: Yōkai's colours are
+/// interchangeable, so a convention tied to a colour's name is one a partner trained apart
+/// has no reason to share. With `first-seen`, each seat sees its colours named by the order
+/// in which it first saw them (`yokai_engine::ColourLabels`): permuting the deal's colours
+/// changes nothing the network reads, so every policy is invariant under colour
+/// permutations by construction, which Other-Play's colour permutations only train for.
+/// The names follow each seat's history, so the trainer and every front end that plays the
+/// policy keep them per seat; the probes and OBL, which step seats from bare game states,
+/// do not support them yet.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ColourNames {
+    /// The deal's colour indices (the paper's).
+    #[default]
+    Dealt,
+    /// The order of the seat's first sight of each colour.
+    FirstSeen,
 }

@@ -51,6 +51,14 @@ impl PreviousLevel {
             .expect("validated: levels ≥ 2 name their previous level");
         let policy = TrainedPolicy::load(&crate::artifact::names::seed_path(given, seed))?;
         policy.check_game(game)?;
+        if policy.config().network.colours == crate::config::ColourNames::FirstSeen {
+            return Err(TrainError::Obl(format!(
+                "{}: its network reads first-seen colour names (network.colours = \
+                 \"first-seen\"), which OBL's partners do not keep: train the level below \
+                 with colours as dealt",
+                policy.path().display()
+            )));
+        }
         let belief_config =
             BeliefTrainConfig::small(config.obl.belief_hidden, config.obl.belief_updates);
         let mut trainer = BeliefTrainer::new(

@@ -23,6 +23,13 @@ pub enum StudyError {
     TooFewGames { games: usize },
     #[error("no run to probe")]
     NoRun,
+    /// The probe recorder steps seats from bare game states, which do not keep the
+    /// first-seen colour names such a network reads.
+    #[error(
+        "{path}: its network reads first-seen colour names (network.colours = \"first-seen\"), \
+         which the probes do not support yet"
+    )]
+    FirstSeen { path: String },
     /// A run or partner trained on another game than the first run.
     #[error(transparent)]
     OtherGame(#[from] TrainError),
@@ -75,6 +82,11 @@ impl<'a> Study<'a> {
         let game = *first.game();
         for policy in runs.iter().chain(partners) {
             policy.check_game(&game)?;
+            if policy.config().network.colours == crate::config::ColourNames::FirstSeen {
+                return Err(StudyError::FirstSeen {
+                    path: policy.path().display().to_string(),
+                });
+            }
         }
         Ok(Study {
             runs,
@@ -178,6 +190,41 @@ mod tests {
         // every game of both seatings, one seat probed (100 games).
         assert_eq!(curves[0].steps[0].rows, 20);
         assert_eq!(curves[1].steps[0].rows, 100);
+    }
+
+    /// A network that reads first-seen colour names is refused, as run or as partner, with
+    /// its path and the field named: the recorder steps seats from bare game states.
+    #[test]
+    fn first_seen_networks_are_refused_by_name() {
+        use crate::{MlpEncoder, TrainConfig, Trainer};
+        let tmp = tempfile::tempdir().unwrap();
+        let c = TrainConfig::from_toml_str(
+            "[network]\npreset = \"compact\"\nhidden = 8\ncolours = \"first-seen\"\n\
+             [ppo]\nnum_envs = 4\nrollout_steps = 4\nminibatches = 1\n[run]\nthreads = 1\n",
+            "test",
+        )
+        .unwrap();
+        let path = tmp.path().join("first-seen.ykp");
+        Trainer::<MlpEncoder>::new(c, 1)
+            .unwrap()
+            .policy()
+            .write_atomic(&path)
+            .unwrap();
+        let first_seen = [TrainedPolicy::load(&path).unwrap()];
+        for (runs, partners) in [
+            (&first_seen[..], &[][..]),
+            (&[policy()][..], &first_seen[..]),
+        ] {
+            let e = Study::new(runs, partners, 50, 0, Target::Card)
+                .err()
+                .unwrap();
+            let text = e.to_string();
+            assert!(matches!(e, StudyError::FirstSeen { .. }), "{text}");
+            assert!(
+                text.contains("first-seen.ykp") && text.contains("network.colours"),
+                "{text}"
+            );
+        }
     }
 
     /// Three seats: self-play records every seat; with a partner, the run sits in each seat

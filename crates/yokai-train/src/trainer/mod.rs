@@ -242,6 +242,11 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
     pub fn last_finished_game(&self) -> Option<EpisodeRecord> {
         self.actor.last_finished_game()
     }
+    /// The games as the network plays them (for tests that replay an episode).
+    #[cfg(test)]
+    pub(crate) fn actor(&self) -> &Actor {
+        &self.actor
+    }
     /// Map a row's chosen action from its seat's view back to the true game.
     pub fn to_true_action(&self, row: usize, view_action: usize) -> usize {
         self.actor.to_true_action(row, view_action)
