@@ -120,13 +120,13 @@ impl ColourLabels {
     }
 
     /// The label of a true colour: its place in the order the seat first saw the colours
-    /// (unseen colours after the seen ones, in rank order).
-    pub fn label(&self, colour: Colour) -> Colour {
-        let at = self.order[..self.colours as usize]
+    /// (unseen colours after the seen ones, in rank order); `None` for a colour the
+    /// config does not have.
+    pub fn label(&self, colour: Colour) -> Option<Colour> {
+        self.order[..self.colours as usize]
             .iter()
             .position(|&c| c == colour.0)
-            .expect("a colour of this game's config");
-        Colour(at as u8)
+            .map(|at| Colour(at as u8))
     }
 
     /// `view` with its colour permutation replaced by these labels (its rotation and
@@ -291,9 +291,10 @@ mod tests {
             }
             assert_eq!(labels.seen(), order.len());
             for (k, &colour) in order.iter().enumerate() {
-                assert_eq!(labels.label(colour), Colour(k as u8));
+                assert_eq!(labels.label(colour), Some(Colour(k as u8)));
             }
         }
         assert!(!order.is_empty(), "seat 0 observed no card");
+        assert_eq!(labels.label(Colour(config.colours() as u8)), None);
     }
 }
