@@ -417,9 +417,10 @@ mod tests {
     use crate::network::MlpEncoder;
     use crate::trainer::Trainer;
 
-    /// A network that reads first-seen colour names sees, seated as a [`Policy`], the same
-    /// observation at every step as the trainer showed it (given the same tie rank): the
-    /// names follow the episode in both, so a policy plays with the names it learnt with.
+    /// A network that reads first-seen colour names, seated as a [`Policy`] that replays
+    /// each batch row's episode so far (with that row's tie rank), reads the observation
+    /// and holds the names the trainer shows that row now: the names follow the episode in
+    /// both, so a policy plays with the names it learnt with.
     #[test]
     fn a_first_seen_policy_reads_in_play_what_it_read_in_training() {
         let config = TrainConfig::from_toml_str(
