@@ -99,7 +99,7 @@ pub use config::{Config, ConfigError, ConfigSpec, Memory, Preset};
 pub use deal::{derive_seed, Deal, DealError};
 pub use episode::{DealSource, EpisodeRecord, RecordedGame, ReplayError};
 pub use game::{ActionError, Game, Illegal, LayoutError, Phase, Step, Substep};
-pub use labels::ColourLabels;
+pub use labels::{ColourLabels, ColourNaming};
 pub use metrics::{Metrics, MetricsAccumulator};
 pub use observation::{
     BufferError, ImageChanges, ImageChannels, ImageEncoder, ImageLayout, Part, Scalar,

@@ -103,8 +103,9 @@ impl Actor {
             encoding,
             symmetries,
             row_sym: vec![(identity, identity); n * p],
-            labels: (colours == ColourNames::FirstSeen)
-                .then(|| vec![ColourLabels::new(&game, 0); n * p]),
+            labels: colours
+                .naming()
+                .map(|naming| vec![ColourLabels::new(&game, 0, naming); n * p]),
             memory: vec![0.0; n * p * hidden],
             history: vec![Vec::new(); n],
             last_game: None,
@@ -161,7 +162,11 @@ impl Actor {
         if let Some(labels) = &mut self.labels {
             let seats = &mut labels[env * p..][..p];
             for (s, l) in seats.iter_mut().enumerate() {
-                *l = ColourLabels::new(&self.game, derive_seed(episode_stream, 0x100 + s as u64));
+                *l = ColourLabels::new(
+                    &self.game,
+                    derive_seed(episode_stream, 0x100 + s as u64),
+                    l.naming(),
+                );
             }
             note_colours(seats, self.env.game(env));
         }

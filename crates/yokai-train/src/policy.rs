@@ -3,7 +3,7 @@
 
 use crate::artifact::safetensors;
 use crate::artifact::{check_game, FileHeader, PolicyFile};
-use crate::config::{ActConfig, ColourNames, TrainConfig};
+use crate::config::{ActConfig, TrainConfig};
 use crate::device::default_device;
 use crate::distribution::{decide_end_row, draw_row};
 use crate::error::TrainError;
@@ -14,7 +14,9 @@ use rand_chacha::rand_core::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use std::path::{Path, PathBuf};
 use yokai_agents::Policy;
-use yokai_engine::{derive_seed, Action, ColourLabels, Config, Game, Seat, SeatView, Symmetry};
+use yokai_engine::{
+    derive_seed, Action, ColourLabels, ColourNaming, Config, Game, Seat, SeatView, Symmetry,
+};
 use yokai_vec::Encoding;
 
 /// A loaded network of any type, behind what a policy needs of it. Which type it is was
@@ -310,8 +312,12 @@ impl<E: Encoder, M: Recurrent> NetworkPolicy<E, M> {
             device: from.device.clone(),
             obs: vec![0.0; len],
             mask: vec![0.0; from.game.num_actions()],
-            labels: (from.config.network.colours == ColourNames::FirstSeen)
-                .then(|| labels_for(&from.game, seed)),
+            labels: from
+                .config
+                .network
+                .colours
+                .naming()
+                .map(|naming| labels_for(&from.game, seed, naming)),
             dealt: vec![0.0; len],
             game: from.game,
             stepped: false,
@@ -371,8 +377,8 @@ impl<E: Encoder, M: Recurrent> Policy for NetworkPolicy<E, M> {
         self.hidden.iter_mut().for_each(|h| *h = 0.0);
         self.stepped = false;
         self.rng = ChaCha8Rng::seed_from_u64(seed);
-        if self.labels.is_some() {
-            self.labels = Some(labels_for(&self.game, seed));
+        if let Some(labels) = &mut self.labels {
+            *labels = labels_for(&self.game, seed, labels.naming());
         }
     }
     fn act(&mut self, view: &SeatView<'_>) -> Action {
@@ -406,9 +412,9 @@ impl<E: Encoder, M: Recurrent> Policy for NetworkPolicy<E, M> {
     }
 }
 
-/// A seat's first-seen colour names for a new game, their ties drawn from the seat's seed.
-fn labels_for(game: &Config, seed: u64) -> ColourLabels {
-    ColourLabels::new(game, derive_seed(seed, 0xC0))
+/// A seat's colour names for a new game, their ties drawn from the seat's seed.
+fn labels_for(game: &Config, seed: u64, naming: ColourNaming) -> ColourLabels {
+    ColourLabels::new(game, derive_seed(seed, 0xC0), naming)
 }
 
 #[cfg(test)]
@@ -417,51 +423,59 @@ mod tests {
     use crate::network::MlpEncoder;
     use crate::trainer::Trainer;
 
-    /// A network that reads first-seen colour names, seated as a [`Policy`] that replays
+    /// A network that reads its own colour names (first-seen or public-first), seated as a
+    /// [`Policy`] that replays
     /// each batch row's episode so far (with that row's tie rank), reads the observation
     /// and holds the names the trainer shows that row now: the names follow the episode in
     /// both, so a policy plays with the names it learnt with.
     #[test]
-    fn a_first_seen_policy_reads_in_play_what_it_read_in_training() {
-        let config = TrainConfig::from_toml_str(
-            r#"
+    fn a_named_colours_policy_reads_in_play_what_it_read_in_training() {
+        for names in ["first-seen", "public-first"] {
+            let config = TrainConfig::from_toml_str(
+                &format!(
+                    r#"
 game = "9c-2p-perfect"
 [network]
 preset = "compact"
 hidden = 16
-colours = "first-seen"
+colours = "{names}"
 [ppo]
 num_envs = 8
 rollout_steps = 16
 total_steps = 512
 [run]
 threads = 1
-"#,
-            "tiny first-seen",
-        )
-        .unwrap();
-        let mut trainer = Trainer::<MlpEncoder>::new(config, 4).unwrap();
-        trainer.update().unwrap();
-        let policy = TrainedPolicy::load_bytes(&trainer.policy().to_bytes(), "tiny").unwrap();
-        let game = *trainer.env().config();
-        let (obs, _) = trainer.views();
-        let l = obs.len() / (8 * game.players());
-        let mut named = 0;
-        for row in 0..8 * game.players() {
-            let (i, seat) = (row / game.players(), Seat((row % game.players()) as u8));
-            let labels = trainer.actor().colour_labels(row).unwrap();
-            named += (labels.seen() >= 2) as usize;
-            let mut seated = NetworkPolicy::new(trainer.model().clone(), &policy, 0);
-            seated.labels = Some(labels.restart());
-            let (mut replay, actions) = trainer.actor().episode_so_far(i);
-            seated.remember(&replay.view(seat));
-            for &a in actions {
-                replay.apply_index(a as usize).unwrap();
+"#
+                ),
+                "tiny named colours",
+            )
+            .unwrap();
+            let mut trainer = Trainer::<MlpEncoder>::new(config, 4).unwrap();
+            trainer.update().unwrap();
+            let policy = TrainedPolicy::load_bytes(&trainer.policy().to_bytes(), "tiny").unwrap();
+            let game = *trainer.env().config();
+            let (obs, _) = trainer.views();
+            let l = obs.len() / (8 * game.players());
+            let mut named = 0;
+            for row in 0..8 * game.players() {
+                let (i, seat) = (row / game.players(), Seat((row % game.players()) as u8));
+                let labels = trainer.actor().colour_labels(row).unwrap();
+                named += (labels.seen() >= 2) as usize;
+                let mut seated = NetworkPolicy::new(trainer.model().clone(), &policy, 0);
+                seated.labels = Some(labels.restart());
+                let (mut replay, actions) = trainer.actor().episode_so_far(i);
                 seated.remember(&replay.view(seat));
+                for &a in actions {
+                    replay.apply_index(a as usize).unwrap();
+                    seated.remember(&replay.view(seat));
+                }
+                assert_eq!(seated.labels, Some(labels), "{names} row {row}");
+                assert_eq!(seated.obs, obs[row * l..][..l], "{names} row {row}");
             }
-            assert_eq!(seated.labels, Some(labels), "row {row}");
-            assert_eq!(seated.obs, obs[row * l..][..l], "row {row}");
+            assert!(
+                named >= 4,
+                "{names}: only {named} seats have seen two colours"
+            );
         }
-        assert!(named >= 4, "only {named} seats have seen two colours");
     }
 }

@@ -291,9 +291,20 @@ fn resume_continues_exactly_like_an_uninterrupted_run() {
     obl2.obl.previous = Some(level_one);
     obl2.obl.belief_updates = 3;
     obl2.obl.belief_hidden = 8;
-    let mut first_seen = tiny(SymmetrySet::Both, 4);
-    first_seen.network.colours = yokai_train::ColourNames::FirstSeen;
-    for config in [tiny(SymmetrySet::Both, 4), first_seen, obl, obl2] {
+    let named = |names| {
+        let mut c = tiny(SymmetrySet::Both, 4);
+        c.network.colours = names;
+        c
+    };
+    use yokai_train::ColourNames::{FirstSeen, PublicFirst};
+    let configs = [
+        tiny(SymmetrySet::Both, 4),
+        named(FirstSeen),
+        named(PublicFirst),
+        obl,
+        obl2,
+    ];
+    for config in configs {
         let whole = one_thread(|| {
             let mut t = Trainer::<MlpEncoder>::new(config.clone(), 9).unwrap();
             for _ in 0..4 {
@@ -1063,10 +1074,10 @@ fn belief_targets_name_colours_as_each_seat_sees_them() {
     assert!(checked > 20, "{checked} known cards checked");
 }
 
-/// With first-seen colour names (`network.colours = "first-seen"`) a seat's view no
-/// longer depends on how the colours are named, so Other-Play's colour permutations change
-/// nothing: runs with and without them (belief targets included) give the same parameters
-/// bit for bit, while with dealt names the permutations change the run.
+/// With first-seen or public-first colour names (`network.colours`) a seat's view no
+/// longer depends on how the deal names the colours, so Other-Play's colour permutations
+/// change nothing: runs with and without them (belief targets included) give the same
+/// parameters bit for bit, while with dealt names the permutations change the run.
 #[test]
 fn first_seen_colour_names_make_colour_permutations_a_no_op() {
     let run = |symmetries: SymmetrySet, colours: yokai_train::ColourNames| {
@@ -1082,11 +1093,14 @@ fn first_seen_colour_names_make_colour_permutations_a_no_op() {
             t.parameters()
         })
     };
-    use yokai_train::ColourNames::{Dealt, FirstSeen};
-    assert_eq!(
-        run(SymmetrySet::None, FirstSeen),
-        run(SymmetrySet::Colour, FirstSeen)
-    );
+    use yokai_train::ColourNames::{Dealt, FirstSeen, PublicFirst};
+    for names in [FirstSeen, PublicFirst] {
+        assert_eq!(
+            run(SymmetrySet::None, names),
+            run(SymmetrySet::Colour, names),
+            "{names}"
+        );
+    }
     assert_ne!(
         run(SymmetrySet::None, Dealt),
         run(SymmetrySet::Colour, Dealt)

@@ -194,11 +194,11 @@ impl TrainConfig {
                      the seat's belief drew: set it to \"local\"",
                 );
             }
-            if n.colours == ColourNames::FirstSeen {
+            if n.colours != ColourNames::Dealt {
                 return bad(
                     "network.colours",
                     "OBL steps its partners from bare game states, which do not keep a \
-                     seat's first-seen colour names: set it to \"dealt\"",
+                     seat's colour names: set it to \"dealt\"",
                 );
             }
         }
@@ -397,6 +397,14 @@ mod tests {
         )
         .unwrap();
         assert_eq!(c.network.colours, ColourNames::FirstSeen);
+        let e = refused(
+            "[network]\ncolours = \"public-first\"\n[obl]\nlevel = 1\n",
+            "x",
+        );
+        assert!(e.contains("network.colours"), "{e}");
+        let c = TrainConfig::from_toml_str("[network]\ncolours = \"public-first\"\n", "x").unwrap();
+        assert_eq!(c.network.colours, ColourNames::PublicFirst);
+        assert_eq!(ColourNames::PublicFirst.to_string(), "public-first");
         assert_eq!(TrainConfig::default().network.colours, ColourNames::Dealt);
         // Under OBL the END term reads the world drawn from the belief (trainer/addons/end.rs).
         assert!(

@@ -49,9 +49,10 @@ pub struct NetworkConfig {
     /// What the critic reads: `local` (the seat's memory, as the actor; the paper's) or
     /// `central` (also every card's true colour, in training only).
     pub critic: CriticInput,
-    /// How the network names the colours: `dealt` (as the deal names them, the paper's) or
+    /// How the network names the colours: `dealt` (as the deal names them, the paper's),
     /// `first-seen` (by the order in which the seat first saw them, so that no convention
-    /// can hang on a colour's name: [`ColourNames`]).
+    /// can hang on a colour's name) or `public-first` (the colours hint tiles have shown
+    /// first, in the order shown, names both seats share): [`ColourNames`].
     pub colours: ColourNames,
 }
 
@@ -277,4 +278,29 @@ pub enum ColourNames {
     Dealt,
     /// The order of the seat's first sight of each colour.
     FirstSeen,
+    /// The colours revealed hint tiles have shown, in the order they showed them (names
+    /// both seats share), then those the seat has seen only on cards, by first sight
+    /// (`yokai_engine::ColourNaming::PublicFirst`).
+    PublicFirst,
+}
+
+impl std::fmt::Display for ColourNames {
+    /// The name a config file gives it, as serde spells it.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match serde_json::to_value(self) {
+            Ok(serde_json::Value::String(name)) => f.write_str(&name),
+            _ => write!(f, "{self:?}"),
+        }
+    }
+}
+
+impl ColourNames {
+    /// The engine's naming rule, `None` for the deal's own names.
+    pub fn naming(self) -> Option<yokai_engine::ColourNaming> {
+        match self {
+            ColourNames::Dealt => None,
+            ColourNames::FirstSeen => Some(yokai_engine::ColourNaming::FirstSeen),
+            ColourNames::PublicFirst => Some(yokai_engine::ColourNaming::PublicFirst),
+        }
+    }
 }

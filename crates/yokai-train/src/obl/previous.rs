@@ -51,11 +51,11 @@ impl PreviousLevel {
             .expect("validated: levels ≥ 2 name their previous level");
         let policy = TrainedPolicy::load(&crate::artifact::names::seed_path(given, seed))?;
         policy.check_game(game)?;
-        if policy.config().network.colours == crate::config::ColourNames::FirstSeen {
+        let names = policy.config().network.colours;
+        if names != crate::config::ColourNames::Dealt {
             return Err(TrainError::Obl(format!(
-                "{}: its network reads first-seen colour names (network.colours = \
-                 \"first-seen\"), which OBL's partners do not keep: train the level below \
-                 with colours as dealt",
+                "{}: its network names colours as network.colours = \"{names}\", which OBL's \
+                 partners do not keep: train the level below with colours as dealt",
                 policy.path().display()
             )));
         }

@@ -24,12 +24,12 @@ pub enum StudyError {
     #[error("no run to probe")]
     NoRun,
     /// The probe recorder steps seats from bare game states, which do not keep the
-    /// first-seen colour names such a network reads.
+    /// colour names such a network reads (`network.colours` other than `dealt`).
     #[error(
-        "{path}: its network reads first-seen colour names (network.colours = \"first-seen\"), \
+        "{path}: its network reads its own colour names (network.colours = \"{names}\"), \
          which the probes do not support yet"
     )]
-    FirstSeen { path: String },
+    ColourNames { path: String, names: String },
     /// A run or partner trained on another game than the first run.
     #[error(transparent)]
     OtherGame(#[from] TrainError),
@@ -82,9 +82,11 @@ impl<'a> Study<'a> {
         let game = *first.game();
         for policy in runs.iter().chain(partners) {
             policy.check_game(&game)?;
-            if policy.config().network.colours == crate::config::ColourNames::FirstSeen {
-                return Err(StudyError::FirstSeen {
+            let names = policy.config().network.colours;
+            if names != crate::config::ColourNames::Dealt {
+                return Err(StudyError::ColourNames {
                     path: policy.path().display().to_string(),
+                    names: names.to_string(),
                 });
             }
         }
@@ -219,9 +221,10 @@ mod tests {
                 .err()
                 .unwrap();
             let text = e.to_string();
-            assert!(matches!(e, StudyError::FirstSeen { .. }), "{text}");
+            assert!(matches!(e, StudyError::ColourNames { .. }), "{text}");
             assert!(
-                text.contains("first-seen.ykp") && text.contains("network.colours"),
+                text.contains("first-seen.ykp")
+                    && text.contains("network.colours = \"first-seen\""),
                 "{text}"
             );
         }
