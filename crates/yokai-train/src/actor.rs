@@ -40,8 +40,8 @@ pub struct Actor {
     symmetries: Vec<Symmetry>,
     /// Per row: the seat's symmetry this episode and its inverse.
     row_sym: Vec<(Symmetry, Symmetry)>,
-    /// With `network.colours = "first-seen"`, per row: the seat's colour names so far this
-    /// episode, which replace its symmetry's colour permutation (they name the colours
+    /// With `network.colours` other than `dealt`, per row: the seat's colour names so far
+    /// this episode, which replace its symmetry's colour permutation (they name the colours
     /// whatever the deal or a permutation called them).
     labels: Option<Vec<ColourLabels>>,
     /// Every row's recurrent memory `[rows × H]`, after the last observation it read.
@@ -136,8 +136,8 @@ impl Actor {
     }
 
     /// The symmetry row `row` sees its game through: its Other-Play symmetry, with its
-    /// colour permutation replaced by the seat's first-seen colour names where the network
-    /// reads those.
+    /// colour permutation replaced by the seat's own colour names where the network reads
+    /// those (`network.colours`).
     pub fn symmetry(&self, row: usize) -> Symmetry {
         match &self.labels {
             None => self.row_sym[row].0,
@@ -172,8 +172,8 @@ impl Actor {
         }
     }
 
-    /// With `network.colours = "first-seen"`: the colour names of row `row`'s seat so far
-    /// this episode.
+    /// With `network.colours` other than `dealt`: the colour names of row `row`'s seat so
+    /// far this episode.
     pub fn colour_labels(&self, row: usize) -> Option<ColourLabels> {
         self.labels.as_ref().map(|l| l[row])
     }
@@ -338,7 +338,7 @@ impl Actor {
         Ok(())
     }
 
-    /// With first-seen colour names: game `i`'s seats name the colours of its current
+    /// With colour names of their own: game `i`'s seats name the colours of its current
     /// episode as they did when it was played, by replaying it from its deal (the names
     /// follow the episode step by step, so the game as it stands is not enough).
     fn replay_colours(&mut self, i: usize) {

@@ -286,8 +286,8 @@ pub struct NetworkPolicy<E: Encoder, M: Recurrent = GruCell> {
     hidden: Vec<f32>,
     obs: Vec<f32>,
     mask: Vec<f32>,
-    /// With `network.colours = "first-seen"`: the seat's colour names this game (drawn
-    /// again at every reset), and the observation as the game names the colours.
+    /// With `network.colours` other than `dealt`: the seat's colour names this game (drawn
+    /// again at every reset), and the observation as the deal names the colours.
     labels: Option<ColourLabels>,
     dealt: Vec<f32>,
     game: Config,
@@ -424,8 +424,8 @@ mod tests {
     use crate::trainer::Trainer;
 
     /// A network that reads its own colour names (first-seen or public-first), seated as a
-    /// [`Policy`] that replays
-    /// each batch row's episode so far (with that row's tie rank), reads the observation
+    /// [`Policy`] that replays each batch row's episode so far (with that row's tie rank),
+    /// reads the observation
     /// and holds the names the trainer shows that row now: the names follow the episode in
     /// both, so a policy plays with the names it learnt with.
     #[test]

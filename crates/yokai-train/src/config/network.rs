@@ -263,10 +263,11 @@ pub enum CriticInput {
 
 /// How the network names the colours (`network.colours`). Why: Yōkai's colours are
 /// interchangeable, so a convention tied to a colour's name is one a partner trained apart
-/// has no reason to share. With `first-seen`, each seat sees its colours named by the order
-/// in which it first saw them (`yokai_engine::ColourLabels`): permuting the deal's colours
-/// changes nothing the network reads, so every policy is invariant under colour
-/// permutations by construction, which Other-Play's colour permutations only train for.
+/// has no reason to share. With `first-seen` (or `public-first`), each seat sees its
+/// colours named by the order in which it first saw them (or tiles first showed them;
+/// `yokai_engine::ColourLabels`): permuting the deal's colours changes nothing the network
+/// reads, so every policy is invariant under colour permutations by construction, which
+/// Other-Play's colour permutations only train for.
 /// The names follow each seat's history, so the trainer and every front end that plays the
 /// policy keep them per seat; the probes and OBL, which step seats from bare game states,
 /// do not support them yet.
