@@ -90,8 +90,10 @@ impl ColourLabels {
 
     /// Note the colours the seat of `view` sees now that it had not seen before (call
     /// after every step of the episode, and once at its start: with imperfect memory a
-    /// card's colour shows only in the turn it is observed).
-    pub fn update(&mut self, view: &SeatView<'_>) {
+    /// card's colour shows only in the turn it is observed). Returns whether any was new:
+    /// only then can the names change, so a caller that keeps the names' [`Symmetry`]
+    /// rebuilds it only then.
+    pub fn update(&mut self, view: &SeatView<'_>) -> bool {
         let mut on_cards = 0u8;
         for card in view.known_cards().iter() {
             if let Some(colour) = view.known_colour(card) {
@@ -107,6 +109,7 @@ impl ColourLabels {
             }
         }
         let rank = &self.rank[..self.colours as usize];
+        let (seen, shown) = (self.seen, self.shown);
         append_new(
             rank,
             on_cards | on_tiles,
@@ -114,6 +117,7 @@ impl ColourLabels {
             &mut self.seen,
         );
         append_new(rank, on_tiles, &mut self.shown_order, &mut self.shown);
+        (seen, shown) != (self.seen, self.shown)
     }
 
     /// These labels' tie rank and naming with nothing seen: what [`ColourLabels::new`]

@@ -18,11 +18,22 @@ fn env_seed(run_seed: u64) -> u64 {
     derive_seed(run_seed, 0xE5)
 }
 
-/// The seats of `game` (one [`ColourLabels`] each, in seat order) note the colours they
-/// see after its latest step.
-fn note_colours(seats: &mut [ColourLabels], game: &Game) {
-    for (s, l) in seats.iter_mut().enumerate() {
-        l.update(&game.view(Seat(s as u8)));
+/// The seats of `game` (one [`ColourLabels`] and one row symmetry each, in seat order)
+/// note the colours they see after its latest step. Where a seat's names change (and
+/// always with `fresh` names), its row's symmetry takes them, its rotation kept: views and
+/// belief targets then read the names from the row's symmetry, built once per change
+/// rather than once per row and step.
+fn note_colours(
+    seats: &mut [ColourLabels],
+    row_sym: &mut [(Symmetry, Symmetry)],
+    game: &Game,
+    fresh: bool,
+) {
+    for (s, (l, sym)) in seats.iter_mut().zip(row_sym).enumerate() {
+        if l.update(&game.view(Seat(s as u8))) || fresh {
+            let named = l.symmetry(game.config(), sym.0);
+            *sym = (named, named.inverse());
+        }
     }
 }
 
@@ -38,7 +49,8 @@ pub struct Actor {
     encoding: Encoding,
     /// The symmetries a seat may draw (identity only without Other-Play).
     symmetries: Vec<Symmetry>,
-    /// Per row: the seat's symmetry this episode and its inverse.
+    /// Per row: the seat's symmetry this episode and its inverse. With colour names of its
+    /// own (`labels`), the symmetry's colour permutation is the seat's names so far.
     row_sym: Vec<(Symmetry, Symmetry)>,
     /// With `network.colours` other than `dealt`, per row: the seat's colour names so far
     /// this episode, which replace its symmetry's colour permutation (they name the colours
@@ -75,7 +87,8 @@ impl Actor {
             env,
             seed,
             env_seed(seed),
-            (symmetries, config.network.colours),
+            symmetries,
+            config.network.colours,
             hidden,
         ))
     }
@@ -87,7 +100,8 @@ impl Actor {
         env: VecEnv<f32>,
         seed: u64,
         env_seed: u64,
-        (symmetries, colours): (Vec<Symmetry>, ColourNames),
+        symmetries: Vec<Symmetry>,
+        colours: ColourNames,
         hidden: usize,
     ) -> Actor {
         let game = *env.config();
@@ -139,10 +153,7 @@ impl Actor {
     /// colour permutation replaced by the seat's own colour names where the network reads
     /// those (`network.colours`).
     pub fn symmetry(&self, row: usize) -> Symmetry {
-        match &self.labels {
-            None => self.row_sym[row].0,
-            Some(labels) => labels[row].symmetry(&self.game, self.row_sym[row].0),
-        }
+        self.row_sym[row].0
     }
 
     /// Other-Play: each seat of game `env` draws its own symmetry for the game's current
@@ -168,7 +179,8 @@ impl Actor {
                     l.naming(),
                 );
             }
-            note_colours(seats, self.env.game(env));
+            let syms = &mut self.row_sym[env * p..][..p];
+            note_colours(seats, syms, self.env.game(env), true);
         }
     }
 
@@ -184,8 +196,7 @@ impl Actor {
         let src_obs = self.env.observations();
         let src_masks = self.env.legal_masks();
         let mut mask_f = vec![0f32; na];
-        for r in 0..self.row_sym.len() {
-            let sym = self.symmetry(r);
+        for (r, (sym, _)) in self.row_sym.iter().enumerate() {
             let o_in = &src_obs[r * l..][..l];
             let o_out = &mut obs[r * l..][..l];
             for (m, &b) in mask_f.iter_mut().zip(&src_masks[r * na..][..na]) {
@@ -214,7 +225,7 @@ impl Actor {
     /// (its symmetry's relabelling applied).
     pub fn view_truth(&self, row: usize, out: &mut [u8]) {
         let game = self.env.game(row / self.game.players());
-        let sym = self.symmetry(row);
+        let sym = self.row_sym[row].0;
         for (k, colour) in out.iter_mut().enumerate() {
             *colour = sym.map_colour(game.colour_of(Card(k as u8))).0;
         }
@@ -291,7 +302,8 @@ impl Actor {
             } else {
                 self.history[i].push(action);
                 if let Some(labels) = &mut self.labels {
-                    note_colours(&mut labels[i * p..][..p], self.env.game(i));
+                    let syms = &mut self.row_sym[i * p..][..p];
+                    note_colours(&mut labels[i * p..][..p], syms, self.env.game(i), false);
                 }
             }
         }
@@ -342,24 +354,23 @@ impl Actor {
     /// episode as they did when it was played, by replaying it from its deal (the names
     /// follow the episode step by step, so the game as it stands is not enough).
     fn replay_colours(&mut self, i: usize) {
-        if self.labels.is_none() {
-            return;
-        }
-        let (mut game, actions) = self.episode_so_far(i);
-        let (actions, p) = (actions.to_vec(), self.game.players());
-        let Some(labels) = &mut self.labels else {
+        let Some(mut labels) = self.labels.take() else {
             return;
         };
-        let seats = &mut labels[i * p..][..p];
+        let p = self.game.players();
+        let (mut game, actions) = self.episode_so_far(i);
+        let actions = actions.to_vec();
+        let (seats, syms) = (&mut labels[i * p..][..p], &mut self.row_sym[i * p..][..p]);
         for l in seats.iter_mut() {
             *l = l.restart();
         }
-        note_colours(seats, &game);
+        note_colours(seats, syms, &game, true);
         for a in actions {
             game.apply_index(a as usize)
                 .expect("actions the environment has just replayed");
-            note_colours(seats, &game);
+            note_colours(seats, syms, &game, false);
         }
+        self.labels = Some(labels);
     }
 
     /// The last game of env 0 that finished, as played in training (deal and actions).

@@ -287,8 +287,9 @@ pub struct NetworkPolicy<E: Encoder, M: Recurrent = GruCell> {
     obs: Vec<f32>,
     mask: Vec<f32>,
     /// With `network.colours` other than `dealt`: the seat's colour names this game (drawn
-    /// again at every reset), and the observation as the deal names the colours.
-    labels: Option<ColourLabels>,
+    /// again at every reset) and the symmetry that shows them (rebuilt only when they
+    /// change), and the observation as the deal names the colours.
+    labels: Option<(ColourLabels, Symmetry)>,
     dealt: Vec<f32>,
     game: Config,
     /// Set when `act` already stepped the memory for the current game step.
@@ -317,7 +318,7 @@ impl<E: Encoder, M: Recurrent> NetworkPolicy<E, M> {
                 .network
                 .colours
                 .naming()
-                .map(|naming| labels_for(&from.game, seed, naming)),
+                .map(|naming| named(&from.game, labels_for(&from.game, seed, naming))),
             dealt: vec![0.0; len],
             game: from.game,
             stepped: false,
@@ -342,9 +343,10 @@ impl<E: Encoder, M: Recurrent> NetworkPolicy<E, M> {
             Encoding::None => Ok(()),
         }
         .expect("buffers sized from the policy's own game config");
-        if let Some(labels) = &mut self.labels {
-            labels.update(view);
-            let sym = labels.symmetry(&self.game, Symmetry::identity(&self.game));
+        if let Some((labels, sym)) = &mut self.labels {
+            if labels.update(view) {
+                *sym = labels.symmetry(&self.game, Symmetry::identity(&self.game));
+            }
             match E::encoding() {
                 Encoding::Image(part, layout) => {
                     sym.apply_image_in(&self.game, part, layout, &self.dealt, &mut self.obs)
@@ -377,8 +379,11 @@ impl<E: Encoder, M: Recurrent> Policy for NetworkPolicy<E, M> {
         self.hidden.iter_mut().for_each(|h| *h = 0.0);
         self.stepped = false;
         self.rng = ChaCha8Rng::seed_from_u64(seed);
-        if let Some(labels) = &mut self.labels {
-            *labels = labels_for(&self.game, seed, labels.naming());
+        if let Some((labels, _)) = self.labels {
+            self.labels = Some(named(
+                &self.game,
+                labels_for(&self.game, seed, labels.naming()),
+            ));
         }
     }
     fn act(&mut self, view: &SeatView<'_>) -> Action {
@@ -415,6 +420,12 @@ impl<E: Encoder, M: Recurrent> Policy for NetworkPolicy<E, M> {
 /// A seat's colour names for a new game, their ties drawn from the seat's seed.
 fn labels_for(game: &Config, seed: u64, naming: ColourNaming) -> ColourLabels {
     ColourLabels::new(game, derive_seed(seed, 0xC0), naming)
+}
+
+/// Colour names with the symmetry that shows them (no rotation: a seated policy sees its
+/// game as dealt but for the names).
+fn named(game: &Config, labels: ColourLabels) -> (ColourLabels, Symmetry) {
+    (labels, labels.symmetry(game, Symmetry::identity(game)))
 }
 
 #[cfg(test)]
@@ -456,25 +467,29 @@ threads = 1
             let game = *trainer.env().config();
             let (obs, _) = trainer.views();
             let l = obs.len() / (8 * game.players());
-            let mut named = 0;
+            let mut two_seen = 0;
             for row in 0..8 * game.players() {
                 let (i, seat) = (row / game.players(), Seat((row % game.players()) as u8));
                 let labels = trainer.actor().colour_labels(row).unwrap();
-                named += (labels.seen() >= 2) as usize;
+                two_seen += (labels.seen() >= 2) as usize;
                 let mut seated = NetworkPolicy::new(trainer.model().clone(), &policy, 0);
-                seated.labels = Some(labels.restart());
+                seated.labels = Some(named(&game, labels.restart()));
                 let (mut replay, actions) = trainer.actor().episode_so_far(i);
                 seated.remember(&replay.view(seat));
                 for &a in actions {
                     replay.apply_index(a as usize).unwrap();
                     seated.remember(&replay.view(seat));
                 }
-                assert_eq!(seated.labels, Some(labels), "{names} row {row}");
+                assert_eq!(
+                    seated.labels.map(|(l, _)| l),
+                    Some(labels),
+                    "{names} row {row}"
+                );
                 assert_eq!(seated.obs, obs[row * l..][..l], "{names} row {row}");
             }
             assert!(
-                named >= 4,
-                "{names}: only {named} seats have seen two colours"
+                two_seen >= 4,
+                "{names}: only {two_seen} seats have seen two colours"
             );
         }
     }
