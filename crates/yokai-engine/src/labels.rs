@@ -219,40 +219,32 @@ mod tests {
         Config::from_name("9c-2p-perfect").unwrap()
     }
 
-    /// A game's deal with every colour renamed by `perm` (`perm[c]` is the new name of c).
+    /// A game's deal with every colour renamed by `perm` (`perm[c]` is the new name of c),
+    /// through the symmetry that renames them so.
     fn renamed(game: &Game, perm: &[u8]) -> Game {
+        let config = *game.config();
+        let rename = Symmetry::new(&config, perm, 0, false).unwrap();
         let deal = game.deal();
         let renamed = Deal {
             card_colours: deal
                 .card_colours
                 .iter()
-                .map(|c| Colour(perm[c.index()]))
+                .map(|&c| rename.map_colour(c))
                 .collect(),
             hint_colours: deal
                 .hint_colours
                 .iter()
-                .map(|s| {
-                    let mut out = 0u8;
-                    for (c, &p) in perm.iter().enumerate() {
-                        if s.0 & (1 << c) != 0 {
-                            out |= 1 << p;
-                        }
-                    }
-                    ColourSet(out)
-                })
+                .map(|&s| rename.map_colour_set(s))
                 .collect(),
         };
-        Game::from_deal(*game.config(), &renamed).unwrap()
+        Game::from_deal(config, &renamed).unwrap()
     }
 
+    /// A random permutation of the `c` colours, drawn from `seed`.
     fn permutation(c: usize, seed: u64) -> Vec<u8> {
+        use rand_chacha::rand_core::SeedableRng;
         let mut perm: Vec<u8> = (0..c as u8).collect();
-        for i in (1..c).rev() {
-            perm.swap(
-                i,
-                (derive_seed(seed, 100 + i as u64) % (i as u64 + 1)) as usize,
-            );
-        }
+        crate::deal::shuffle(&mut rand_chacha::ChaCha8Rng::seed_from_u64(seed), &mut perm);
         perm
     }
 

@@ -201,14 +201,22 @@ pub enum EncoderKind {
     PublicPrivate,
 }
 
+/// A config value's name as serde spells it in a config file: the names are written once,
+/// in the enums' serde attributes, and `Display` reads them from there.
+fn write_config_name<T: Serialize + std::fmt::Debug>(
+    value: &T,
+    f: &mut std::fmt::Formatter<'_>,
+) -> std::fmt::Result {
+    match serde_json::to_value(value) {
+        Ok(serde_json::Value::String(name)) => f.write_str(&name),
+        _ => write!(f, "{value:?}"),
+    }
+}
+
 impl std::fmt::Display for EncoderKind {
-    /// The name a config file gives it (`network.encoder`), as serde spells it: the names
-    /// are written once, in the attributes above.
+    /// The name a config file gives it (`network.encoder`).
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match serde_json::to_value(self) {
-            Ok(serde_json::Value::String(name)) => f.write_str(&name),
-            _ => write!(f, "{self:?}"),
-        }
+        write_config_name(self, f)
     }
 }
 
@@ -286,12 +294,9 @@ pub enum ColourNames {
 }
 
 impl std::fmt::Display for ColourNames {
-    /// The name a config file gives it, as serde spells it.
+    /// The name a config file gives it (`network.colours`).
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match serde_json::to_value(self) {
-            Ok(serde_json::Value::String(name)) => f.write_str(&name),
-            _ => write!(f, "{self:?}"),
-        }
+        write_config_name(self, f)
     }
 }
 

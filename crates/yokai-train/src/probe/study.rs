@@ -194,25 +194,37 @@ mod tests {
         assert_eq!(curves[1].steps[0].rows, 100);
     }
 
+    /// A compact network of width 8 for `game`, as initialised, with `network` lines added
+    /// to its `[network]` section, written to `path` and loaded back.
+    fn untrained(game: &str, network: &str, path: &std::path::Path) -> TrainedPolicy {
+        use crate::{MlpEncoder, TrainConfig, Trainer};
+        let c = TrainConfig::from_toml_str(
+            &format!(
+                "game = \"{game}\"\n[network]\npreset = \"compact\"\nhidden = 8\n{network}\
+                 [ppo]\nnum_envs = 4\nrollout_steps = 4\nminibatches = 1\n[run]\nthreads = 1\n"
+            ),
+            "test",
+        )
+        .unwrap();
+        Trainer::<MlpEncoder>::new(c, 1)
+            .unwrap()
+            .policy()
+            .write_atomic(path)
+            .unwrap();
+        TrainedPolicy::load(path).unwrap()
+    }
+
     /// A network that reads first-seen colour names is refused, as run or as partner, with
     /// its path and the field named: the recorder steps seats from bare game states.
     #[test]
     fn first_seen_networks_are_refused_by_name() {
-        use crate::{MlpEncoder, TrainConfig, Trainer};
         let tmp = tempfile::tempdir().unwrap();
-        let c = TrainConfig::from_toml_str(
-            "[network]\npreset = \"compact\"\nhidden = 8\ncolours = \"first-seen\"\n\
-             [ppo]\nnum_envs = 4\nrollout_steps = 4\nminibatches = 1\n[run]\nthreads = 1\n",
-            "test",
-        )
-        .unwrap();
         let path = tmp.path().join("first-seen.ykp");
-        Trainer::<MlpEncoder>::new(c, 1)
-            .unwrap()
-            .policy()
-            .write_atomic(&path)
-            .unwrap();
-        let first_seen = [TrainedPolicy::load(&path).unwrap()];
+        let first_seen = [untrained(
+            "9c-2p-perfect",
+            "colours = \"first-seen\"\n",
+            &path,
+        )];
         for (runs, partners) in [
             (&first_seen[..], &[][..]),
             (&[policy()][..], &first_seen[..]),
@@ -234,21 +246,9 @@ mod tests {
     /// in turn with the partner in the other two, one seat recorded; positions are probed.
     #[test]
     fn three_players_are_probed_in_every_seat() {
-        use crate::{MlpEncoder, TrainConfig, Trainer};
         let tmp = tempfile::tempdir().unwrap();
-        let c = TrainConfig::from_toml_str(
-            "game = \"9c-3p-perfect\"\n[network]\npreset = \"compact\"\nhidden = 8\n\
-             [ppo]\nnum_envs = 4\nrollout_steps = 4\nminibatches = 1\n[run]\nthreads = 1\n",
-            "test",
-        )
-        .unwrap();
         let path = tmp.path().join("p.ykp");
-        Trainer::<MlpEncoder>::new(c, 1)
-            .unwrap()
-            .policy()
-            .write_atomic(&path)
-            .unwrap();
-        let runs = [TrainedPolicy::load(&path).unwrap()];
+        let runs = [untrained("9c-3p-perfect", "", &path)];
         let partners = [TrainedPolicy::load(&path).unwrap()];
         let curves = Study::new(&runs, &partners, 50, 0, Target::Position)
             .unwrap()
