@@ -6,6 +6,11 @@
 #   scripts/train-ab.sh YOKAI YOKAI [YOKAI…] ROUNDS CONFIG [UPDATES] [yokai train options…]
 #   scripts/train-ab.sh /tmp/yokai-before target/release/yokai 4 cpu 40 --threads 2
 #
+# An arm may add config overrides of its own, `YOKAI@FIELD=VALUE[,FIELD=VALUE…]`, to compare
+# settings on one binary:
+#   scripts/train-ab.sh target/release/yokai@network.colours=dealt \
+#       target/release/yokai@network.colours=first-seen 5 cpu-op 80 --threads 2
+#
 # Prints, per binary, the median over rounds of each run's mean env steps/s and rollout and
 # learning seconds per update, the first 10 updates of every run left out (start-up).
 set -euo pipefail
@@ -15,7 +20,7 @@ while [ $# -gt 0 ] && ! [[ $1 =~ ^[0-9]+$ ]]; do
     shift
 done
 if [ ${#bins[@]} -lt 2 ] || [ $# -lt 2 ]; then
-    sed -n 2,10p "$0" >&2
+    sed -n 2,15p "$0" >&2
     exit 2
 fi
 rounds=$1 config=$2 updates=${3:-40}
@@ -25,9 +30,14 @@ trap 'rm -rf "$out"' EXIT
 for round in $(seq "$rounds"); do
     for k in "${!bins[@]}"; do
         dir="$out/$k-$round"
-        "${bins[$k]}" train "$config" --seeds 0 --max-updates "$updates" --eval-games 0 \
-            --out "$dir" "$@" > /dev/null 2>&1
-        echo "${bins[$k]} $dir/seed-0/metrics.jsonl"
+        arm=${bins[$k]} sets=()
+        if [[ $arm == *@* ]]; then
+            IFS=, read -ra fields <<< "${arm#*@}"
+            for f in "${fields[@]}"; do sets+=(--set "$f"); done
+        fi
+        "${arm%%@*}" train "$config" --seeds 0 --max-updates "$updates" --eval-games 0 \
+            --out "$dir" "${sets[@]}" "$@" > /dev/null 2>&1
+        echo "$arm $dir/seed-0/metrics.jsonl"
     done
 done | python3 -c '
 import json, statistics, sys

@@ -66,7 +66,9 @@ impl ColourLabels {
         for (i, r) in rank.iter_mut().enumerate() {
             *r = i as u8;
         }
-        // Fisher–Yates over 0..c, one derived draw per position.
+        // Fisher–Yates over 0..c, one derived draw per position (not `deal::shuffle`'s
+        // ChaCha stream: the runs measured in docs/results/first-seen-colours.md drew their
+        // ranks this way, and a run is a function of its seed).
         for i in (1..c).rev() {
             let j = (derive_seed(seed, i as u64) % (i as u64 + 1)) as usize;
             rank.swap(i, j);
