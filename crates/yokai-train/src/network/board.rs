@@ -25,6 +25,8 @@ pub(crate) struct Board {
     col: usize,
     id: usize,
     hinted: usize,
+    /// The substep channel (substep / 3, on every node).
+    substep: usize,
 }
 
 impl Board {
@@ -40,7 +42,17 @@ impl Board {
             col: ch.col,
             id: ch.id,
             hinted: ch.hinted,
+            substep: ch.substep,
         }
+    }
+
+    /// Whether the node features `[(Y+H)·F]` of one row say its seat is at the MOVE
+    /// substep: the only substep at which any MOVE is legal (the engine's rules; checked
+    /// against its legal actions by the tests below). Read from the first card's node on
+    /// the CPU, before any tensor is made, so a head can leave the other rows' MOVE
+    /// scores uncomputed.
+    pub fn at_move_substep(&self, nodes: &[f32]) -> bool {
+        (nodes[self.substep] * 3.0).round() as u8 == yokai_engine::Substep::Move as u8
     }
 
     /// Each card's row and column `[B, Y, 1]`, whole numbers read back from the scaled
@@ -109,6 +121,16 @@ impl Board {
 pub(crate) struct Positions {
     rows: Tensor<3>,
     cols: Tensor<3>,
+}
+
+impl Positions {
+    /// The positions of some rows of the batch, in the order of `rows`.
+    pub fn select(&self, rows: Tensor<1, Int>) -> Positions {
+        Positions {
+            rows: self.rows.clone().select(0, rows.clone()),
+            cols: self.cols.clone().select(0, rows),
+        }
+    }
 }
 
 /// `[1, 1, n]` holding `value(0), …, value(n − 1)`.
@@ -200,6 +222,53 @@ pub(crate) mod tests {
             assert!(
                 placed_seen > 20,
                 "{name}: only {placed_seen} placed hints seen"
+            );
+        }
+    }
+
+    /// Random legal play on 9c and 16c: every seat's node features say "MOVE substep"
+    /// exactly when the game is at it, and every state where the acting seat has a legal
+    /// MOVE is one of them (what lets the pointer head skip the other rows' MOVE scores).
+    #[test]
+    fn the_move_substep_read_from_node_features_covers_every_legal_move() {
+        for name in ["9c-2p-perfect", "16c-3p-perfect"] {
+            let game_config = Config::from_name(name).unwrap();
+            let board = Board::new(&game_config);
+            let [nodes, f] = game_config.node_shape(Part::Full);
+            let mut rng = ChaCha8Rng::seed_from_u64(3);
+            let (mut at_move, mut other) = (0, 0);
+            for deal in 0..6 {
+                let mut game = Game::new(game_config, deal);
+                while !game.is_over() {
+                    let is_move = game.substep() == yokai_engine::Substep::Move;
+                    let mut x = vec![0f32; nodes * f];
+                    for seat in 0..game_config.players() {
+                        game.view(Seat(seat as u8))
+                            .write_nodes(Part::Full, &mut x)
+                            .unwrap();
+                        assert_eq!(board.at_move_substep(&x), is_move, "{name} seat {seat}");
+                    }
+                    let legal = game.legal_actions(game.current_seat());
+                    let can_move = legal
+                        .iter()
+                        .any(|a| matches!(a, yokai_engine::Action::Move(..)));
+                    assert!(
+                        !can_move || is_move,
+                        "{name}: a MOVE legal at {:?}",
+                        game.substep()
+                    );
+                    (at_move, other) = if is_move {
+                        (at_move + 1, other)
+                    } else {
+                        (at_move, other + 1)
+                    };
+                    let pick = legal[(rng.next_u64() % legal.len() as u64) as usize];
+                    game.apply(pick).unwrap();
+                }
+            }
+            assert!(
+                at_move > 20 && other > 50,
+                "{name}: {at_move} at MOVE, {other} not"
             );
         }
     }

@@ -12,7 +12,7 @@ mod public_private;
 mod trxl;
 
 pub use graph::GraphEncoder;
-pub use pointer::PointerHead;
+pub use pointer::{MoveRows, PointerHead};
 pub use public_private::PublicPrivateEncoder;
 pub use trxl::TransformerXl;
 
@@ -421,7 +421,9 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
     /// read of every row's state after the step ([`ActorCritic::head_input`], `[B, ·]`).
     /// The actor runs on those rows alone: in a step most rows have one legal action (a
     /// waiting seat's NOOP), and the pointer head costs as much as the rest of the network.
-    /// Empty when `rows` is.
+    /// For the same reason the pointer head scores MOVEs only for rows at the MOVE substep
+    /// ([`MoveRows`]): the others' MOVE logits are 0, so callers mask the logits with the
+    /// legal actions before reading them, as every sampler does. Empty when `rows` is.
     pub fn logits_of_rows(&self, obs: &[f32], head_input: Tensor<2>, rows: &[usize]) -> Vec<f32> {
         if rows.is_empty() {
             return Vec::new();
@@ -430,10 +432,18 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
         let l = obs.len() / head_input.dims()[0];
         let chosen_obs = rows.iter().flat_map(|&r| &obs[r * l..][..l]).copied();
         let idx = rows.iter().map(|&r| r as i64).collect();
-        crate::tensor::to_vec(self.policy_logits_of_head(
-            crate::tensor::tensor2(chosen_obs.collect(), [rows.len(), l], &device),
-            head_input.select(0, crate::tensor::rows_tensor(idx, &device)),
-        ))
+        let chosen_obs = crate::tensor::tensor2(chosen_obs.collect(), [rows.len(), l], &device);
+        let head_input = head_input.select(0, crate::tensor::rows_tensor(idx, &device));
+        let logits = match &self.pointer {
+            Some(pointer) => {
+                let moving = pointer.rows_at_move(obs, rows);
+                pointer
+                    .forward_with_colours(chosen_obs, head_input, MoveRows::Only(&moving))
+                    .0
+            }
+            None => self.policy_logits_of_head(chosen_obs, head_input),
+        };
+        crate::tensor::to_vec(logits)
     }
 
     /// One step of acting for `B` rows, on flat buffers: observations `[B, L]`, states
@@ -559,16 +569,28 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
 
     /// The action logits and, where the network has a colour layer (`ppo.belief_aux`),
     /// every card's colour logits `[rows, Y, C]`, from what the heads read
-    /// ([`ActorCritic::head_input`]).
+    /// ([`ActorCritic::head_input`]). The pointer head scores MOVEs for the rows `moving`
+    /// names (the dense head for every row).
     pub fn policy_and_colour_logits_of_head(
         &self,
         obs: Tensor<2>,
         head_input: Tensor<2>,
+        moving: MoveRows,
     ) -> (Tensor<2>, Option<Tensor<3>>) {
         match &self.pointer {
-            Some(pointer) => pointer.forward_with_colours(obs, head_input),
+            Some(pointer) => pointer.forward_with_colours(obs, head_input, moving),
             None => (self.policy_logits_of_head(obs, head_input), None),
         }
+    }
+
+    /// For [`MoveRows::Only`]: the positions `k` of `rows` (row indices into `obs`, flat
+    /// `[B, L]`) whose seat is at the MOVE substep; empty for a network without the
+    /// pointer head, which reads no observation in its head.
+    pub fn rows_at_move(&self, obs: &[f32], rows: &[i64]) -> Vec<usize> {
+        self.pointer
+            .as_ref()
+            .map(|p| p.rows_at_move(obs, rows))
+            .unwrap_or_default()
     }
 
     /// What the heads read of memory states `[rows, H]`: the memory's output through the

@@ -23,13 +23,14 @@
 //! The card positions are read from the graph node features (row and column channels), so
 //! the head follows Other-Play's rotated views without knowing about them.
 
-use super::board::Board;
+use super::board::{Board, Positions};
 use crate::init::Init;
+use crate::tensor::rows_tensor;
 use burn::module::{Module, Param};
 use burn::nn::Linear;
 use burn::prelude::*;
 use burn::tensor::activation::relu;
-use burn::tensor::TensorData;
+use burn::tensor::{IndexingUpdateOp, TensorData};
 use yokai_engine::Config;
 
 /// Width of the head's node embeddings.
@@ -104,21 +105,37 @@ impl PointerHead {
     /// Logits `[B, N_a]` in the game's action order, from the graph node features `[B,
     /// (Y+H)·F]` and the GRU states `[B, H]` of the same rows.
     pub fn forward(&self, nodes: Tensor<2>, h: Tensor<2>) -> Tensor<2> {
-        self.forward_with_colours(nodes, h).0
+        self.forward_with_colours(nodes, h, MoveRows::Every).0
+    }
+
+    /// The positions `k` of `rows` (row indices into `nodes`, flat `[B, (Y+H)·F]` node
+    /// features) whose seat is at the MOVE substep: the rows [`MoveRows::Only`] needs.
+    pub fn rows_at_move<R: Copy + TryInto<usize>>(&self, nodes: &[f32], rows: &[R]) -> Vec<usize> {
+        let board = self.shape.board;
+        let l = (board.cards + board.hints) * board.features;
+        (0..rows.len())
+            .filter(|&k| {
+                let r = rows[k]
+                    .try_into()
+                    .ok()
+                    .expect("row indices are not negative");
+                board.at_move_substep(&nodes[r * l..][..l])
+            })
+            .collect()
     }
 
     /// The action logits and, with the colour layer, each card's colour logits `[B, Y, C]`
-    /// from the same card embeddings.
+    /// from the same card embeddings. `moving` says which rows get MOVE scores.
     pub fn forward_with_colours(
         &self,
         nodes: Tensor<2>,
         h: Tensor<2>,
+        moving: MoveRows,
     ) -> (Tensor<2>, Option<Tensor<3>>) {
         let Board {
             cards: y,
             hints: nh,
             features: f,
-            grid: g,
             ..
         } = self.shape.board;
         let [b, _] = nodes.dims();
@@ -129,13 +146,12 @@ impl PointerHead {
         let z_hints = z.narrow(1, y, nh);
 
         let at = self.shape.board.positions(x.clone().narrow(1, 0, y));
-        let near = self.shape.board.near(&at);
         // Card adjacency `[B, Y, Y]`, then one message-passing step.
         let touching = self.shape.board.card_adjacency(&at);
         let gathered = touching.matmul(z_cards.clone());
         let cards = relu(z_cards + self.message.forward(gathered));
 
-        let moves = self.move_scores(cards.clone(), near);
+        let moves = self.moves_of(cards.clone(), &at, moving);
 
         let observe = self.observe.forward(cards.clone()).reshape([b, y]);
         let place = self
@@ -154,7 +170,7 @@ impl PointerHead {
             vec![
                 other.clone().narrow(1, 0, 2),
                 observe,
-                moves.reshape([b, y * g * g]),
+                moves,
                 other.narrow(1, 2, 1),
                 place.reshape([b, nh * y]),
             ],
@@ -162,6 +178,49 @@ impl PointerHead {
         );
         (logits, colours)
     }
+
+    /// The MOVE logits `[B, Y·g²]` of the rows `moving` names, 0 in the others.
+    fn moves_of(&self, cards: Tensor<3>, at: &Positions, moving: MoveRows) -> Tensor<2> {
+        let [b, y, _] = cards.dims();
+        let g = self.shape.board.grid;
+        let board = &self.shape.board;
+        match moving {
+            MoveRows::Only(rows) if rows.len() < b => {
+                let device = cards.device();
+                let all = Tensor::zeros([b, y * g * g], &device);
+                if rows.is_empty() {
+                    return all;
+                }
+                let idx = rows_tensor(rows.iter().map(|&r| r as i64).collect(), &device);
+                let near = board.near(&at.select(idx.clone()));
+                let scores = self.move_scores(cards.select(0, idx.clone()), near);
+                all.select_assign(
+                    0,
+                    idx,
+                    scores.reshape([rows.len(), y * g * g]),
+                    IndexingUpdateOp::Add,
+                )
+            }
+            _ => self
+                .move_scores(cards, board.near(at))
+                .reshape([b, y * g * g]),
+        }
+    }
+}
+
+/// Which rows of a batch the pointer head computes MOVE scores for.
+///
+/// Why: MOVE is legal only at the MOVE substep, a quarter of a seat's decisions, and its
+/// Y·g² scores (729 of the 777 logits on 9c) are most of the head's work. Where every
+/// logit is masked before it is read (acting with a legal mask, the learner's masked
+/// softmax), the other rows' MOVE logits change nothing, so they are left at 0.
+#[derive(Clone, Copy, Debug)]
+pub enum MoveRows<'a> {
+    /// Every row: for callers that hand the logits on unmasked.
+    Every,
+    /// Only these rows (positions in the batch, ascending, from
+    /// [`PointerHead::rows_at_move`]); the others' MOVE logits are 0.
+    Only(&'a [usize]),
 }
 
 impl PointerHead {
@@ -268,6 +327,104 @@ mod tests {
             let (before, after) = (end_logit(&x), end_logit(&changed));
             assert_eq!(before != after, pool, "pool {pool}: {before} → {after}");
         }
+    }
+
+    /// MOVE scores for the rows at the MOVE substep only ([`MoveRows::Only`]), on rows of
+    /// random play at every substep: every logit that can be legal is the one
+    /// [`MoveRows::Every`] gives, the other rows' MOVE logits are 0, and a loss that reads
+    /// only logits that can be legal has the same gradients (with respect to the GRU
+    /// states and the node features, which every weight's gradient passes through).
+    #[test]
+    fn move_scores_of_the_moving_rows_leave_every_logit_that_can_be_legal_as_it_was() {
+        let device = Device::flex().autodiff();
+        let game_config = Config::from_name("9c-2p-perfect").unwrap();
+        let head = PointerHead::new(&game_config, 8, true, true, 1.0, &mut Init::new(4), &device);
+        let [nodes, f] = game_config.node_shape(Part::Full);
+        let l = nodes * f;
+        let (y, g) = (game_config.cards(), game_config.grid());
+        let moves = 2 + y..2 + y + y * g * g;
+        let mut rng = ChaCha8Rng::seed_from_u64(9);
+        let (mut x, mut at_move) = (Vec::new(), Vec::new());
+        let mut game = Game::new(game_config, 1);
+        for k in 0..24 {
+            if game.is_over() {
+                game = Game::new(game_config, rng.next_u64());
+            }
+            let mut row = vec![0f32; l];
+            game.view(game.current_seat())
+                .write_nodes(Part::Full, &mut row)
+                .unwrap();
+            x.extend(row);
+            if game.substep() == yokai_engine::Substep::Move {
+                at_move.push(k);
+            }
+            let legal = game.legal_actions(game.current_seat());
+            game.apply(legal[(rng.next_u64() % legal.len() as u64) as usize])
+                .unwrap();
+        }
+        let b = x.len() / l;
+        let rows: Vec<usize> = (0..b).collect();
+        let moving = head.rows_at_move(&x, &rows);
+        assert_eq!(moving, at_move);
+        // Positions in `rows`, whatever the rows' indices into the batch are.
+        assert_eq!(head.rows_at_move(&x, &[at_move[0] as i64, 0]), [0]);
+        assert!(
+            !moving.is_empty() && moving.len() < b,
+            "{} of {b} rows move",
+            moving.len()
+        );
+        let na = game_config.num_actions();
+        // A weight for every logit that can be legal: all of a moving row's, the non-MOVE
+        // logits of the others.
+        let weights: Vec<f32> = (0..b * na)
+            .map(|i| {
+                let can_be_legal = moving.contains(&(i / na)) || !moves.contains(&(i % na));
+                if can_be_legal {
+                    (i % 7) as f32 - 3.0
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        let run = |which: MoveRows| {
+            let nodes =
+                Tensor::<2>::from_data(TensorData::new(x.clone(), [b, l]), &device).require_grad();
+            let h = Tensor::<2>::from_data(
+                TensorData::new(
+                    (0..b * 8).map(|i| (i % 5) as f32 * 0.3 - 0.6).collect(),
+                    [b, 8],
+                ),
+                &device,
+            )
+            .require_grad();
+            let (logits, colours) = head.forward_with_colours(nodes.clone(), h.clone(), which);
+            let w = Tensor::<2>::from_data(TensorData::new(weights.clone(), [b, na]), &device);
+            let loss = (logits.clone() * w).sum() + colours.unwrap().sum();
+            let grads = loss.backward();
+            let grad = |t: Tensor<2>| to_vec(t.grad(&grads).unwrap());
+            (to_vec(logits), grad(h), grad(nodes))
+        };
+        let (every, h_every, x_every) = run(MoveRows::Every);
+        let (only, h_only, x_only) = run(MoveRows::Only(&moving));
+        let close = |a: f32, b: f32| (a - b).abs() <= 1e-5 * (1.0 + a.abs());
+        for i in 0..b * na {
+            if moving.contains(&(i / na)) || !moves.contains(&(i % na)) {
+                assert!(
+                    close(every[i], only[i]),
+                    "logit {i}: {} vs {}",
+                    every[i],
+                    only[i]
+                );
+            } else {
+                assert_eq!(only[i], 0.0, "row {}'s MOVE logit", i / na);
+            }
+        }
+        for (name, a, c) in [("h", &h_every, &h_only), ("nodes", &x_every, &x_only)] {
+            for (k, (&p, &q)) in a.iter().zip(c.iter()).enumerate() {
+                assert!(close(p, q), "d loss / d {name}[{k}]: {p} vs {q}");
+            }
+        }
+        assert!(h_every.iter().any(|&v| v != 0.0));
     }
 
     /// The factored MOVE scores equal their definition, summed card by card over each

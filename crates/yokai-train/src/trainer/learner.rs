@@ -8,7 +8,7 @@ use super::minibatch::{self, Shard, Totals};
 use super::rollout::Rollout;
 use super::Trainer;
 use crate::distribution::{chosen_log_prob, entropy, masked_log_softmax};
-use crate::network::{shards_on, ActorCritic, Encoder, Recurrent};
+use crate::network::{shards_on, ActorCritic, Encoder, MoveRows, Recurrent};
 use crate::tensor::{rows_tensor, tensor1, tensor2};
 use burn::module::{Module, ModuleMapper, ModuleVisitor, Param};
 use burn::optim::{GradientsAccumulator, GradientsParams};
@@ -194,6 +194,9 @@ impl ShardJob<'_> {
         let (c, d) = (self.c, self.d);
         let (bm, t_len, hsz) = (s.sequences, c.rollout_steps, model.hidden_size());
         let l = s.obs.len() / (bm * t_len);
+        // The choosing rows at the MOVE substep, read before the observations become a
+        // tensor: only their MOVE logits can be legal, so only theirs are computed.
+        let moving = model.rows_at_move(&s.obs, &s.choosing);
         let obs: Tensor<3> = Tensor::from_data(TensorData::new(s.obs, [bm, t_len, l]), d);
         let states = model.unroll(
             obs.clone(),
@@ -227,7 +230,11 @@ impl ShardJob<'_> {
             } else {
                 Tensor::zeros([n, 1], d)
             };
-            let heads = model.policy_and_colour_logits_of_head(row_obs, states.select(0, idx));
+            let heads = model.policy_and_colour_logits_of_head(
+                row_obs,
+                states.select(0, idx),
+                MoveRows::Only(&moving),
+            );
             let rows = ChoosingRows {
                 masks: s.masks,
                 one_hot: s.one_hot,
