@@ -103,7 +103,8 @@ impl ActivationOps<Flex> for Flex {
     }
 
     fn sigmoid(tensor: FloatTensor<Flex>) -> FloatTensor<Flex> {
-        unary_op(tensor, sigmoid_f32, sigmoid_f64)
+        // YLE patch (PATCHED.md): f32 eight lanes at a time.
+        crate::ops::lanes::map_lanes(tensor, crate::ops::lanes::sigmoid, sigmoid_f64)
     }
 
     fn sigmoid_backward(output: FloatTensor<Flex>, grad: FloatTensor<Flex>) -> FloatTensor<Flex> {

@@ -109,6 +109,8 @@ pub mod gather_scatter;
 pub mod grid_sample;
 mod int;
 pub mod interpolate;
+// YLE patch (PATCHED.md): exp, tanh and sigmoid eight lanes at a time.
+pub mod lanes;
 pub mod mask;
 pub mod matmul;
 mod module;

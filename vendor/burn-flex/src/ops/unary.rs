@@ -163,7 +163,8 @@ where
 
 /// Exponential: e^x
 pub fn exp(tensor: FlexTensor) -> FlexTensor {
-    unary_op(tensor, |x| x.exp(), |x| x.exp())
+    // YLE patch (PATCHED.md): f32 eight lanes at a time.
+    crate::ops::lanes::map_lanes(tensor, crate::ops::lanes::exp, |x| x.exp())
 }
 
 /// Natural logarithm: ln(x)
@@ -256,7 +257,8 @@ pub fn sinh(tensor: FlexTensor) -> FlexTensor {
 
 /// Hyperbolic tangent
 pub fn tanh(tensor: FlexTensor) -> FlexTensor {
-    unary_op(tensor, |x| x.tanh(), |x| x.tanh())
+    // YLE patch (PATCHED.md): f32 eight lanes at a time.
+    crate::ops::lanes::map_lanes(tensor, crate::ops::lanes::tanh, |x| x.tanh())
 }
 
 /// Inverse cosine (arccos)
