@@ -236,10 +236,11 @@ pub fn policy_step<'py>(
         Some(s) => (s, 1.0),
         None => (vec![0.0; h], 0.0),
     };
-    let out = policy.step_seats(&[(game, yokai_engine::Seat(seat as u8))], state, vec![keep]);
-    let logits = out
-        .logits(0)
-        .map(|l| arrays::owned(py, l.to_vec(), &[l.len()]))
+    // Every logit, MOVEs included where none is legal: this is for comparing networks.
+    let (logits, state) =
+        policy.step_seat_every_logit(game, yokai_engine::Seat(seat as u8), state, keep);
+    let logits = logits
+        .map(|l| arrays::owned(py, l.clone(), &[l.len()]))
         .transpose()?;
-    Ok((logits, arrays::owned(py, out.states, &[h])?))
+    Ok((logits, arrays::owned(py, state, &[h])?))
 }

@@ -29,6 +29,7 @@ trait LoadedNet: std::fmt::Debug + Send + Sync {
     fn encoding(&self) -> Encoding;
     fn hidden_size(&self) -> usize;
     fn recur(&self, obs: Tensor<2>, states: Tensor<2>, keep: Tensor<2>) -> Tensor<2>;
+    fn policy_logits(&self, obs: Tensor<2>, states: Tensor<2>) -> Tensor<2>;
     fn step_seats(
         &self,
         rows: &[(&Game, Seat)],
@@ -62,6 +63,9 @@ impl<E: Encoder + 'static, M: Recurrent + 'static> LoadedNet for ActorCritic<E, 
     }
     fn recur(&self, obs: Tensor<2>, states: Tensor<2>, keep: Tensor<2>) -> Tensor<2> {
         ActorCritic::recur(self, obs, states, keep)
+    }
+    fn policy_logits(&self, obs: Tensor<2>, states: Tensor<2>) -> Tensor<2> {
+        ActorCritic::policy_logits(self, obs, states)
     }
     fn step_seats(
         &self,
@@ -269,6 +273,30 @@ impl TrainedPolicy {
     /// drive many seats of many games (the probe recorder, OBL's belief data and partners).
     pub fn step_seats(&self, rows: &[(&Game, Seat)], states: Vec<f32>, keep: Vec<f32>) -> SeatStep {
         self.net.step_seats(rows, states, keep, &self.device)
+    }
+
+    /// One step of seat `seat`'s memory in `game` (from `state`; `keep` 0 starts a fresh
+    /// one), and, where the seat is to act, every one of its action logits, MOVEs
+    /// included where none is legal ([`TrainedPolicy::step_seats`] leaves those at 0):
+    /// for comparing this network with one run elsewhere, logit by logit. Returns the
+    /// logits (`None` where the seat waits) and the new state.
+    pub fn step_seat_every_logit(
+        &self,
+        game: &Game,
+        seat: Seat,
+        state: Vec<f32>,
+        keep: f32,
+    ) -> (Option<Vec<f32>>, Vec<f32>) {
+        let encoding = self.encoding();
+        let mut obs = vec![0f32; encoding.shape(game.config()).iter().product()];
+        encoding
+            .write(game, seat, &mut obs)
+            .expect("a buffer sized from the game's own config");
+        let (obs, state, keep) = self.batch_tensors(obs, state, vec![keep]);
+        let h = self.net.recur(obs.clone(), state, keep);
+        let logits = (game.current_seat() == seat)
+            .then(|| crate::tensor::to_vec(self.net.policy_logits(obs, h.clone())));
+        (logits, crate::tensor::to_vec(h))
     }
 
     /// A fresh seat-holder; `seed` drives its action sampling.
@@ -492,5 +520,68 @@ threads = 1
                 "{names}: only {two_seen} seats have seen two colours"
             );
         }
+    }
+
+    /// `step_seat_every_logit` gives the state and the logits `step_seats` gives, except
+    /// the MOVE logits outside the MOVE substep, which it computes (non-zero) where
+    /// `step_seats` leaves 0; and `None` for a waiting seat. Over a game of random play.
+    #[test]
+    fn every_logit_is_step_seats_with_the_move_logits_filled_in() {
+        use rand_chacha::rand_core::Rng;
+        let text = "game = \"9c-2p-perfect\"\n[network]\npreset = \"compact\"\nhidden = 16\n\
+                    head = \"pointer\"\n[ppo]\nnum_envs = 4\nrollout_steps = 8\n\
+                    total_steps = 64\n[run]\nthreads = 1\n";
+        let config = TrainConfig::from_toml_str(text, "tiny pointer").unwrap();
+        let trainer = Trainer::<MlpEncoder>::new(config, 2).unwrap();
+        let policy = TrainedPolicy::load_bytes(&trainer.policy().to_bytes(), "tiny").unwrap();
+        let game_config = *policy.game();
+        let (y, g) = (game_config.cards(), game_config.grid());
+        let moves = 2 + y..2 + y + y * g * g;
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        let mut game = Game::new(game_config, 3);
+        let mut states = vec![vec![0f32; 16]; 2];
+        let (mut filled, mut same) = (0, 0);
+        while !game.is_over() {
+            for seat in [Seat(0), Seat(1)] {
+                let k = seat.0 as usize;
+                let keep = if game.steps() == 0 { 0.0 } else { 1.0 };
+                let stepped = policy.step_seats(&[(&game, seat)], states[k].clone(), vec![keep]);
+                let (every, state) =
+                    policy.step_seat_every_logit(&game, seat, states[k].clone(), keep);
+                assert_eq!(state, stepped.states);
+                match (stepped.logits(0), every) {
+                    (None, None) => {}
+                    (Some(part), Some(every)) => {
+                        let at_move = game.substep() == yokai_engine::Substep::Move;
+                        for (a, (&p, &e)) in part.iter().zip(&every).enumerate() {
+                            if moves.contains(&a) && !at_move {
+                                assert_eq!(p, 0.0);
+                                assert_ne!(e, 0.0, "MOVE logit {a}");
+                            } else {
+                                assert!((p - e).abs() <= 1e-5 * (1.0 + e.abs()), "{a}: {p} vs {e}");
+                            }
+                        }
+                        if at_move {
+                            same += 1
+                        } else {
+                            filled += 1
+                        }
+                    }
+                    (p, e) => panic!(
+                        "seat {k}: logits {:?} against {:?}",
+                        p.is_some(),
+                        e.is_some()
+                    ),
+                }
+                states[k] = state;
+            }
+            let legal = game.legal_actions(game.current_seat());
+            game.apply(legal[(rng.next_u64() % legal.len() as u64) as usize])
+                .unwrap();
+        }
+        assert!(
+            filled > 5 && same > 2,
+            "{filled} rows filled in, {same} at MOVE"
+        );
     }
 }

@@ -314,7 +314,9 @@ pub struct SeatStep {
 }
 
 impl SeatStep {
-    /// Row `k`'s action logits (unmasked), if its seat is the one to act.
+    /// Row `k`'s action logits (unmasked), if its seat is the one to act. Its MOVE logits
+    /// are 0 unless it is at the MOVE substep, where alone a MOVE can be legal
+    /// ([`MoveRows`]); `TrainedPolicy::step_seat_every_logit` computes them all.
     pub fn logits(&self, k: usize) -> Option<&[f32]> {
         let i = self.acting.binary_search(&k).ok()?;
         Some(&self.logits[i * self.num_actions..][..self.num_actions])
