@@ -436,15 +436,9 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
         let idx = rows.iter().map(|&r| r as i64).collect();
         let chosen_obs = crate::tensor::tensor2(chosen_obs.collect(), [rows.len(), l], &device);
         let head_input = head_input.select(0, crate::tensor::rows_tensor(idx, &device));
-        let logits = match &self.pointer {
-            Some(pointer) => {
-                let moving = pointer.rows_at_move(obs, rows);
-                pointer
-                    .forward_with_colours(chosen_obs, head_input, MoveRows::Only(&moving))
-                    .0
-            }
-            None => self.policy_logits_of_head(chosen_obs, head_input),
-        };
+        let moving = self.rows_at_move(obs, rows);
+        let (logits, _) =
+            self.policy_and_colour_logits_of_head(chosen_obs, head_input, MoveRows::Only(&moving));
         crate::tensor::to_vec(logits)
     }
 
@@ -588,7 +582,7 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
     /// For [`MoveRows::Only`]: the positions `k` of `rows` (row indices into `obs`, flat
     /// `[B, L]`) whose seat is at the MOVE substep; empty for a network without the
     /// pointer head, which reads no observation in its head.
-    pub fn rows_at_move(&self, obs: &[f32], rows: &[i64]) -> Vec<usize> {
+    pub fn rows_at_move<R: Copy + TryInto<usize>>(&self, obs: &[f32], rows: &[R]) -> Vec<usize> {
         self.pointer
             .as_ref()
             .map(|p| p.rows_at_move(obs, rows))
