@@ -249,6 +249,33 @@ impl FlexTensor {
         }
     }
 
+    /// YLE patch: a contiguous tensor of `shape` whose elements `write` stores, allocated
+    /// without zeroing it first (kernels such as gemm with `read_dst = false` overwrite
+    /// their whole output, and zeroing it first was 4 % of a training update's CPU time).
+    ///
+    /// # Safety
+    /// `write` must store every one of the shape's elements before it returns.
+    pub unsafe fn written_by<E: Element + bytemuck::Pod + Send + Sync>(
+        shape: Shape,
+        write: impl FnOnce(&mut [core::mem::MaybeUninit<E>]),
+    ) -> Self {
+        let n = shape.num_elements();
+        let mut elems: Vec<core::mem::MaybeUninit<E>> = Vec::with_capacity(n);
+        // SAFETY: `MaybeUninit` needs no initialisation.
+        unsafe { elems.set_len(n) };
+        write(&mut elems);
+        let mut elems = core::mem::ManuallyDrop::new(elems);
+        let (ptr, len, cap) = (elems.as_mut_ptr(), elems.len(), elems.capacity());
+        // SAFETY: the caller's `write` initialised every element; `MaybeUninit<E>` has the
+        // size and alignment of `E`, and the allocation passes to the new vector whole.
+        let elems = unsafe { Vec::from_raw_parts(ptr as *mut E, len, cap) };
+        Self {
+            data: Arc::new(Bytes::from_elems(elems)),
+            layout: Layout::contiguous(shape),
+            dtype: E::dtype(),
+        }
+    }
+
     /// Create a tensor filled with zeros.
     pub fn zeros(shape: Shape, dtype: DType) -> Self {
         Self::empty(shape, dtype)
