@@ -41,10 +41,9 @@ pub fn entropy(log_probs: Tensor<2>, mask: Tensor<2>) -> Tensor<1> {
     (p * log_probs * mask).sum_dim(1).squeeze_dim::<1>(1).neg()
 }
 
-/// Entropy `[B]` of the binary choice "action `a` or another" in each row, from its
-/// log-probabilities: how undecided the row is about that one action.
-pub fn binary_entropy(log_probs: Tensor<2>, a: usize) -> Tensor<1> {
-    let log_p = log_probs.narrow(1, a, 1).squeeze_dim::<1>(1);
+/// Entropy `[B]` of the binary choice "action `a` or another" in each row, from each
+/// row's log-probability of `a`: how undecided the row is about that one action.
+pub fn binary_entropy(log_p: Tensor<1>) -> Tensor<1> {
     let p = log_p.clone().exp();
     let rest = (p.clone().neg() + 1.0).clamp_min(1e-7);
     (p * log_p + rest.clone() * rest.log()).neg()
@@ -182,19 +181,12 @@ mod tests {
 
     #[test]
     fn binary_entropy_is_the_entropy_of_one_action_against_the_rest() {
-        // p(action 1) = 1/4, 3/4 and 1 (the other actions illegal or impossible).
-        let lp = t2(
-            vec![
-                0.75f32.ln(),
-                0.25f32.ln(),
-                0.25f32.ln(),
-                0.75f32.ln(),
-                -200.0,
-                0.0,
-            ],
-            [3, 2],
+        // p(action) = 1/4, 3/4 and 1 (the other actions illegal or impossible).
+        let lp = Tensor::<1>::from_data(
+            TensorData::new(vec![0.25f32.ln(), 0.75f32.ln(), 0.0], [3]),
+            &Device::flex(),
         );
-        let h: Vec<f32> = binary_entropy(lp, 1)
+        let h: Vec<f32> = binary_entropy(lp)
             .into_data()
             .convert::<f32>()
             .try_into_vec()
@@ -243,6 +235,60 @@ mod tests {
         let (_, lp, h) = sample_row(&logits, &mask, 0.1, false);
         assert!((lp - 0.25f32.ln()).abs() < 1e-6);
         assert!((h - 0.562_335_1).abs() < 1e-5);
+    }
+
+    /// On random rows (777 logits, random masks, some with a single legal action) the
+    /// draw, its log-probability and the entropy are the softmax's over the legal actions,
+    /// computed here by the definition: the draw is the first legal action whose cumulative
+    /// probability passes u (away from the boundaries, where rounding may decide).
+    #[test]
+    fn sample_row_follows_the_definition_on_random_rows() {
+        use rand_chacha::rand_core::SeedableRng;
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(17);
+        for row in 0..200 {
+            let n = 777;
+            let logits: Vec<f32> = (0..n)
+                .map(|_| (unit_draw(&mut rng) * 24.0 - 12.0) as f32)
+                .collect();
+            let keep = if row % 10 == 0 {
+                0.0
+            } else {
+                unit_draw(&mut rng)
+            };
+            let mut mask: Vec<f32> = (0..n)
+                .map(|_| (unit_draw(&mut rng) < keep) as u8 as f32)
+                .collect();
+            mask[row % n] = 1.0;
+            let legal: Vec<usize> = (0..n).filter(|&a| mask[a] > 0.5).collect();
+            let max = legal
+                .iter()
+                .map(|&a| logits[a] as f64)
+                .fold(f64::MIN, f64::max);
+            let z: f64 = legal.iter().map(|&a| (logits[a] as f64 - max).exp()).sum();
+            let p = |a: usize| (logits[a] as f64 - max).exp() / z;
+            let h: f64 = legal.iter().map(|&a| -p(a) * p(a).ln()).sum();
+            let best = *legal
+                .iter()
+                .max_by(|&&a, &&b| logits[a].total_cmp(&logits[b]).then(b.cmp(&a)))
+                .unwrap();
+            assert_eq!(sample_row(&logits, &mask, 0.5, true).0, best);
+            for _ in 0..20 {
+                let u = unit_draw(&mut rng);
+                let (a, lp, entropy) = sample_row(&logits, &mask, u, false);
+                assert!(mask[a] > 0.5, "row {row}: illegal {a}");
+                assert!((lp as f64 - p(a).ln()).abs() < 1e-5, "row {row}: log p");
+                assert!(
+                    (entropy as f64 - h).abs() < 1e-5 * (1.0 + h),
+                    "row {row}: H"
+                );
+                let below: f64 = legal.iter().take_while(|&&b| b < a).map(|&b| p(b)).sum();
+                assert!(
+                    below <= u + 1e-12 && u < below + p(a) + 1e-12,
+                    "row {row}: u {u} drew {a} with cumulative [{below}, {})",
+                    below + p(a)
+                );
+            }
+        }
     }
 
     #[test]

@@ -26,6 +26,19 @@ use burn::tensor::activation::{relu, sigmoid, tanh};
 use yokai_engine::{Config, ImageLayout, Part};
 use yokai_vec::Encoding;
 
+/// A batch of rows' action logits as the learner reads them.
+// One value per shard and minibatch, moved once: the size of its handles does not matter.
+#[allow(clippy::large_enum_variant)]
+pub enum ActionLogits {
+    /// Every row's logit of every action, `[rows, N_a]` (the dense head).
+    Every(Tensor<2>),
+    /// The pointer head's, where MOVE can be legal only at the MOVE substep: every row's
+    /// logits of the other actions `[rows, N_a − Y·g²]` (action order, the MOVE block cut
+    /// out) and the MOVE logits `[m, Y·g²]` of the `m` rows at the MOVE substep, in the
+    /// order the caller named them.
+    Split { others: Tensor<2>, moves: Tensor<2> },
+}
+
 /// Work to do with the network types a config names, whichever they are: [`for_network`]
 /// calls `run` with the encoder and memory types of a `NetworkConfig`. Training a run and
 /// loading a policy file are both such jobs.
@@ -576,6 +589,27 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
         match &self.pointer {
             Some(pointer) => pointer.forward_with_colours(obs, head_input, moving),
             None => (self.policy_logits_of_head(obs, head_input), None),
+        }
+    }
+
+    /// The action logits as the learner reads them ([`ActionLogits`]) and, with a colour
+    /// layer, the colour logits `[rows, Y, C]`: the pointer head's split at the rows
+    /// `moving` (positions from [`ActorCritic::rows_at_move`]), the dense head's whole.
+    pub fn action_logits_of_head(
+        &self,
+        obs: Tensor<2>,
+        head_input: Tensor<2>,
+        moving: &[usize],
+    ) -> (ActionLogits, Option<Tensor<3>>) {
+        match &self.pointer {
+            Some(pointer) => {
+                let (others, moves, colours) = pointer.forward_split(obs, head_input, moving);
+                (ActionLogits::Split { others, moves }, colours)
+            }
+            None => (
+                ActionLogits::Every(self.policy_logits_of_head(obs, head_input)),
+                None,
+            ),
         }
     }
 

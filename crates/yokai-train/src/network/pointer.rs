@@ -132,6 +132,43 @@ impl PointerHead {
         h: Tensor<2>,
         moving: MoveRows,
     ) -> (Tensor<2>, Option<Tensor<3>>) {
+        let parts = self.parts(nodes, h);
+        let moves = self.moves_of(parts.cards.clone(), &parts.at, moving);
+        let logits = parts.in_action_order(Some(moves));
+        (logits, parts.colours)
+    }
+
+    /// The logits the learner reads, split where MOVE can be legal: every row's logits of
+    /// the actions other than MOVE `[B, N_a − Y·g²]` (in action order, the MOVE block cut
+    /// out), the MOVE logits `[m, Y·g²]` of the rows `moving` names (positions, in its
+    /// order), and with the colour layer the colour logits `[B, Y, C]`.
+    ///
+    /// Why: a row off the MOVE substep has 48 logits that can be legal (9c), not 777.
+    /// Handing the learner its MOVE block as zeros made every masked softmax, entropy and
+    /// their gradients run over the 729 columns no such row can choose.
+    pub fn forward_split(
+        &self,
+        nodes: Tensor<2>,
+        h: Tensor<2>,
+        moving: &[usize],
+    ) -> (Tensor<2>, Tensor<2>, Option<Tensor<3>>) {
+        let g = self.shape.board.grid;
+        let parts = self.parts(nodes, h);
+        let [_, y, _] = parts.cards.dims();
+        let moves = if moving.is_empty() {
+            Tensor::zeros([0, y * g * g], &parts.cards.device())
+        } else {
+            let device = parts.cards.device();
+            let idx = rows_tensor(moving.iter().map(|&r| r as i64).collect(), &device);
+            let near = self.shape.board.near(&parts.at.select(idx.clone()));
+            self.move_scores(parts.cards.clone().select(0, idx), near)
+                .reshape([moving.len(), y * g * g])
+        };
+        (parts.in_action_order(None), moves, parts.colours)
+    }
+
+    /// Everything the head computes from its inputs except the MOVE scores.
+    fn parts(&self, nodes: Tensor<2>, h: Tensor<2>) -> HeadParts {
         let Board {
             cards: y,
             hints: nh,
@@ -151,32 +188,28 @@ impl PointerHead {
         let gathered = touching.matmul(z_cards.clone());
         let cards = relu(z_cards + self.message.forward(gathered));
 
-        let moves = self.moves_of(cards.clone(), &at, moving);
-
         let observe = self.observe.forward(cards.clone()).reshape([b, y]);
         let place = self
             .hint_query
             .forward(z_hints)
-            .matmul(self.hint_key.forward(cards.clone()).swap_dims(1, 2));
+            .matmul(self.hint_key.forward(cards.clone()).swap_dims(1, 2))
+            .reshape([b, nh * y]);
         let colours = self.colour.as_ref().map(|c| c.forward(cards.clone()));
         let other = if self.shape.pool {
             let mean = cards.clone().mean_dim(1).reshape([b, WIDTH]);
-            let max = cards.max_dim(1).reshape([b, WIDTH]);
+            let max = cards.clone().max_dim(1).reshape([b, WIDTH]);
             self.other.forward(Tensor::cat(vec![h, mean, max], 1))
         } else {
             self.other.forward(h)
         };
-        let logits = Tensor::cat(
-            vec![
-                other.clone().narrow(1, 0, 2),
-                observe,
-                moves,
-                other.narrow(1, 2, 1),
-                place.reshape([b, nh * y]),
-            ],
-            1,
-        );
-        (logits, colours)
+        HeadParts {
+            other,
+            observe,
+            place,
+            colours,
+            cards,
+            at,
+        }
     }
 
     /// The MOVE logits `[B, Y·g²]` of the rows `moving` names, 0 in the others.
@@ -221,6 +254,30 @@ pub enum MoveRows<'a> {
     /// Only these rows (positions in the batch, ascending, from
     /// [`PointerHead::rows_at_move`]); the others' MOVE logits are 0.
     Only(&'a [usize]),
+}
+
+/// What [`PointerHead::parts`] computes: the logits of every action but MOVE, the colour
+/// logits, and what the MOVE scores read (card embeddings `[B, Y, WIDTH]`, positions).
+struct HeadParts {
+    /// NOOP, END, REVEAL `[B, 3]`.
+    other: Tensor<2>,
+    observe: Tensor<2>,
+    place: Tensor<2>,
+    colours: Option<Tensor<3>>,
+    cards: Tensor<3>,
+    at: Positions,
+}
+
+impl HeadParts {
+    /// The logits in the game's action order, with `moves` as the MOVE block, or without
+    /// the MOVE block (`None`).
+    fn in_action_order(&self, moves: Option<Tensor<2>>) -> Tensor<2> {
+        let mut blocks = vec![self.other.clone().narrow(1, 0, 2), self.observe.clone()];
+        blocks.extend(moves);
+        blocks.push(self.other.clone().narrow(1, 2, 1));
+        blocks.push(self.place.clone());
+        Tensor::cat(blocks, 1)
+    }
 }
 
 impl PointerHead {

@@ -6,9 +6,10 @@
 use super::addons::{AddOns, ShardColumns};
 use super::minibatch::{self, Shard, Totals};
 use super::rollout::Rollout;
+use super::row_groups::{side_by_side, RowGroups};
 use super::Trainer;
 use crate::distribution::{chosen_log_prob, entropy, masked_log_softmax};
-use crate::network::{shards_on, ActorCritic, Encoder, MoveRows, Recurrent};
+use crate::network::{shards_on, ActionLogits, ActorCritic, Encoder, Recurrent};
 use crate::tensor::{rows_tensor, tensor1, tensor2};
 use burn::module::{Module, ModuleMapper, ModuleVisitor, Param};
 use burn::optim::{GradientsAccumulator, GradientsParams};
@@ -16,7 +17,6 @@ use burn::prelude::*;
 use burn::tensor::TensorData;
 use rand_chacha::ChaCha8Rng;
 use yokai_engine::deal::shuffle;
-use yokai_engine::Action;
 
 /// What the epochs of one update report (means over minibatches).
 #[derive(Default)]
@@ -230,12 +230,9 @@ impl ShardJob<'_> {
             } else {
                 Tensor::zeros([n, 1], d)
             };
-            let heads = model.policy_and_colour_logits_of_head(
-                row_obs,
-                states.select(0, idx),
-                MoveRows::Only(&moving),
-            );
+            let heads = model.action_logits_of_head(row_obs, states.select(0, idx), &moving);
             let rows = ChoosingRows {
+                moving,
                 masks: s.masks,
                 one_hot: s.one_hot,
                 old_logp: s.old_logp,
@@ -289,16 +286,16 @@ impl ShardJob<'_> {
     }
 
     /// The terms read off the choosing rows' heads: the clipped policy loss, the entropy
-    /// bonus, the END add-ons' bonus, the belief loss, and the ratio diagnostics.
+    /// bonus, the END add-ons' bonus, the belief loss, and the ratio diagnostics. The
+    /// softmax runs over each row's group of columns that can be legal ([`RowGroups`]);
+    /// every term is a sum over rows, taken in the groups' row order.
     fn policy_terms(
         &self,
-        (logits, colour_logits): (Tensor<2>, Option<Tensor<3>>),
+        (logits, colour_logits): (ActionLogits, Option<Tensor<3>>),
         rows: ChoosingRows,
     ) -> PolicyTerms {
         let (c, d) = (self.c, self.d);
-        let n = rows.adv.len();
         let n_all = self.totals.choosing as f32;
-        let na = self.game.num_actions();
         let ShardColumns {
             end,
             truth,
@@ -306,30 +303,60 @@ impl ShardJob<'_> {
         } = rows.addons;
         let zero = || Tensor::<1>::zeros([1], d).sum();
         let (mut belief, mut belief_hits) = (zero(), 0);
-        // The network has a colour layer exactly when the belief add-on is on.
+        // The network has a colour layer exactly when the belief add-on is on. Its loss is
+        // a sum over cards of rows in their own order.
         if let (Some(unit), Some(colour_logits), Some(truth)) =
             (&self.addons.belief, colour_logits, truth)
         {
             let out = unit.loss(colour_logits, truth, n_all, d);
             (belief, belief_hits) = (out.loss, out.hits);
         }
-        let mask = tensor2(rows.masks, [n, na], d);
-        let log_probs = masked_log_softmax(logits, mask.clone());
-        let logp = chosen_log_prob(log_probs.clone(), tensor2(rows.one_hot, [n, na], d));
-        let end_bonus = match (&self.addons.end, end) {
-            (Some(unit), Some(end_rows)) => {
-                let end = self.game.encode(Action::End);
-                unit.bonus(&log_probs, end, end_rows, self.totals.rows_with_end, d)
-            }
-            _ => zero(),
+        let groups = RowGroups::new(
+            logits,
+            &rows.moving,
+            &rows.masks,
+            &rows.one_hot,
+            self.game,
+            d,
+        );
+        let end_rows = match (&self.addons.end, end) {
+            (Some(unit), Some(end_rows)) => Some((
+                unit,
+                match groups.order() {
+                    Some(order) => end_rows.reorder(order),
+                    None => end_rows,
+                },
+            )),
+            _ => None,
         };
-        let row_entropy = entropy(log_probs, mask);
+        let (mut logp, mut row_entropy, mut log_p_end) = (Vec::new(), Vec::new(), Vec::new());
+        for group in groups.groups.iter() {
+            let log_probs = masked_log_softmax(group.logits.clone(), group.mask.clone());
+            logp.push(chosen_log_prob(log_probs.clone(), group.one_hot.clone()));
+            if end_rows.is_some() {
+                let end = log_probs.clone().narrow(1, group.end, 1);
+                log_p_end.push(end.squeeze_dim::<1>(1));
+            }
+            row_entropy.push(entropy(log_probs, group.mask.clone()));
+        }
+        let (logp, row_entropy) = (side_by_side(logp), side_by_side(row_entropy));
+        let end_bonus = match end_rows {
+            Some((unit, end_rows)) => unit.bonus(
+                side_by_side(log_p_end),
+                end_rows,
+                self.totals.rows_with_end,
+                d,
+            ),
+            None => zero(),
+        };
         let entropy = match (&self.addons.entropy, entropy_weight) {
-            (Some(unit), Some(weights)) => unit.weigh(row_entropy, weights, d) / n_all,
+            (Some(unit), Some(weights)) => {
+                unit.weigh(row_entropy, groups.in_group_order(weights), d) / n_all
+            }
             _ => row_entropy.sum() / n_all,
         };
-        let adv = tensor1(rows.adv, d);
-        let delta = logp - tensor1(rows.old_logp, d);
+        let adv = tensor1(groups.in_group_order(rows.adv), d);
+        let delta = logp - tensor1(groups.in_group_order(rows.old_logp), d);
         let ratio = delta.clone().exp();
         let diagnostics = ratio_diagnostics(delta.detach(), ratio.clone().detach(), c.clip);
         let clipped = ratio.clone().clamp(1.0 - c.clip, 1.0 + c.clip);
@@ -347,6 +374,8 @@ impl ShardJob<'_> {
 
 /// A shard's choosing rows, as the policy terms read them.
 struct ChoosingRows {
+    /// The positions of the rows at the MOVE substep (the pointer head's MOVE rows).
+    moving: Vec<usize>,
     masks: Vec<f32>,
     one_hot: Vec<f32>,
     old_logp: Vec<f32>,

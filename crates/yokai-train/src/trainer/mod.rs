@@ -26,6 +26,7 @@ mod minibatch;
 #[cfg(test)]
 mod obl_tests;
 mod rollout;
+mod row_groups;
 
 use crate::actor::Actor;
 use crate::config::TrainConfig;

@@ -65,12 +65,11 @@ impl EndAddOn {
         }
     }
 
-    /// Loss: the END bonus of a shard's choosing rows (`log_probs` over the actions, END at
-    /// index `end`), divided by the minibatch's rows where END is legal.
+    /// Loss: the END bonus of a shard's choosing rows from their log-probabilities of END
+    /// `[rows]`, divided by the minibatch's rows where END is legal.
     pub fn bonus(
         &self,
-        log_probs: &Tensor<2>,
-        end: usize,
+        log_p_end: Tensor<1>,
         rows: EndRows,
         rows_with_end: f32,
         d: &Device,
@@ -78,11 +77,10 @@ impl EndAddOn {
         let legal = tensor1(rows.legal, d);
         let mut bonus = Tensor::<1>::zeros([1], d).sum();
         if self.entropy_coef > 0.0 {
-            let h = binary_entropy(log_probs.clone(), end) * legal.clone();
+            let h = binary_entropy(log_p_end.clone()) * legal.clone();
             bonus = bonus + h.sum() / rows_with_end * self.entropy_coef;
         }
         if self.lookahead > 0.0 {
-            let log_p_end = log_probs.clone().narrow(1, end, 1).squeeze_dim::<1>(1);
             let end_adv = tensor1(rows.adv, d);
             let gain = match self.form {
                 EndForm::Expected => log_p_end.exp() * end_adv,
@@ -91,6 +89,22 @@ impl EndAddOn {
             bonus = bonus + gain.sum() / rows_with_end * self.lookahead;
         }
         bonus
+    }
+}
+
+impl EndRows {
+    /// The rows in the order `order` names (positions into the rows as gathered).
+    pub fn reorder(self, order: &[usize]) -> EndRows {
+        let pick = |v: &[f32]| order.iter().map(|&k| v[k]).collect();
+        EndRows {
+            legal: pick(&self.legal),
+            // Empty without the END term.
+            adv: if self.adv.is_empty() {
+                Vec::new()
+            } else {
+                pick(&self.adv)
+            },
+        }
     }
 }
 

@@ -1,0 +1,298 @@
+//! The choosing rows of a shard cut into groups by the actions that can be legal in them,
+//! so the learner's masked softmax, entropy and their gradients run over those columns
+//! only.
+//!
+//! Why: MOVE (Y·g² = 729 of the 777 actions on 9c) is legal only at the MOVE substep, a
+//! quarter of a seat's decisions. With the pointer head ([`ActionLogits::Split`]) the rows
+//! off that substep form a group over the other 48 columns, the rows at it a group over
+//! all of them; the dense head's logits ([`ActionLogits::Every`]) are one group over every
+//! column. Every loss term is a sum over rows, so the groups' per-row terms are put side by
+//! side (in the groups' row order, which [`RowGroups::in_group_order`] gives the per-row
+//! inputs too) and summed as before.
+
+use crate::network::ActionLogits;
+use crate::tensor::{rows_tensor, tensor2};
+use burn::prelude::*;
+use yokai_engine::{Action, Config};
+
+/// One group: its rows' logits, legal masks and chosen actions over the group's columns,
+/// and where END is among those columns.
+pub(super) struct RowGroup {
+    /// `[k, w]`.
+    pub logits: Tensor<2>,
+    /// `[k, w]`, 1 where legal.
+    pub mask: Tensor<2>,
+    /// `[k, w]`, 1 at the chosen action.
+    pub one_hot: Tensor<2>,
+    /// END's column.
+    pub end: usize,
+}
+
+/// A shard's choosing rows as groups (none empty).
+pub(super) struct RowGroups {
+    pub groups: Vec<RowGroup>,
+    /// The choosing rows' positions in the groups' row order; `None` when that is the
+    /// rows' own order.
+    order: Option<Vec<usize>>,
+}
+
+impl RowGroups {
+    /// The groups of `n` choosing rows from the head's logits, the positions `moving` of
+    /// the rows at the MOVE substep (ascending, as the head was given them), and the rows'
+    /// legal masks and one-hot actions `[n × N_a]` in the game's action order.
+    ///
+    /// A row off the MOVE substep with a MOVE legal or chosen would lose it here; the head
+    /// relies on the same rule (MOVE legal only at the MOVE substep), which the engine's
+    /// property tests hold (`network::board`).
+    pub fn new(
+        logits: ActionLogits,
+        moving: &[usize],
+        masks: &[f32],
+        one_hot: &[f32],
+        game: &Config,
+        d: &Device,
+    ) -> RowGroups {
+        let na = game.num_actions();
+        let n = masks.len() / na;
+        let end = game.encode(Action::End);
+        let (others, moves) = match logits {
+            ActionLogits::Every(logits) => {
+                let group = RowGroup {
+                    logits,
+                    mask: tensor2(masks.to_vec(), [n, na], d),
+                    one_hot: tensor2(one_hot.to_vec(), [n, na], d),
+                    end,
+                };
+                return RowGroups {
+                    groups: vec![group],
+                    order: None,
+                };
+            }
+            ActionLogits::Split { others, moves } => (others, moves),
+        };
+        let layout = game.action_layout();
+        // The columns off the MOVE block, in action order: what `others` holds.
+        let still_columns: Vec<usize> = (0..layout.movement).chain(layout.reveal..na).collect();
+        let moving_columns: Vec<usize> = still_columns
+            .iter()
+            .copied()
+            .chain(layout.movement..layout.reveal)
+            .collect();
+        let mut at_move = vec![false; n];
+        for &k in moving {
+            at_move[k] = true;
+        }
+        let still: Vec<usize> = (0..n).filter(|&k| !at_move[k]).collect();
+        debug_assert!(
+            still.iter().all(|&k| (layout.movement..layout.reveal)
+                .all(|a| masks[k * na + a] == 0.0 && one_hot[k * na + a] == 0.0)),
+            "a row off the MOVE substep with a MOVE legal or chosen"
+        );
+        let group = |rows: &[usize], columns: &[usize], logits: Tensor<2>| {
+            let pick = |v: &[f32]| {
+                let picked = rows
+                    .iter()
+                    .flat_map(|&k| columns.iter().map(move |&a| v[k * na + a]))
+                    .collect();
+                tensor2(picked, [rows.len(), columns.len()], d)
+            };
+            RowGroup {
+                logits,
+                mask: pick(masks),
+                one_hot: pick(one_hot),
+                end,
+            }
+        };
+        let select = |rows: &[usize]| {
+            if rows.len() == n {
+                others.clone()
+            } else {
+                others
+                    .clone()
+                    .select(0, rows_tensor(rows.iter().map(|&k| k as i64).collect(), d))
+            }
+        };
+        let mut groups = Vec::with_capacity(2);
+        if !still.is_empty() {
+            groups.push(group(&still, &still_columns, select(&still)));
+        }
+        if !moving.is_empty() {
+            let logits = Tensor::cat(vec![select(moving), moves], 1);
+            groups.push(group(moving, &moving_columns, logits));
+        }
+        let order: Vec<usize> = still.iter().chain(moving).copied().collect();
+        let in_order = order.iter().enumerate().all(|(i, &k)| i == k);
+        RowGroups {
+            groups,
+            order: (!in_order).then_some(order),
+        }
+    }
+
+    /// A per-row input (one value per choosing row, in the rows' order) in the groups' row
+    /// order.
+    pub fn in_group_order(&self, values: Vec<f32>) -> Vec<f32> {
+        match &self.order {
+            None => values,
+            Some(order) => order.iter().map(|&k| values[k]).collect(),
+        }
+    }
+
+    /// The groups' row order (positions into the choosing rows), `None` when it is theirs.
+    pub fn order(&self) -> Option<&[usize]> {
+        self.order.as_deref()
+    }
+}
+
+/// Per-row tensors of the groups, one after another: `[Σ k]` in the groups' row order.
+pub(super) fn side_by_side(mut parts: Vec<Tensor<1>>) -> Tensor<1> {
+    if parts.len() == 1 {
+        parts.pop().expect("one part")
+    } else {
+        Tensor::cat(parts, 0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::distribution::{chosen_log_prob, entropy, masked_log_softmax};
+    use crate::tensor::{tensor1, to_vec};
+    use rand_chacha::rand_core::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+    use yokai_engine::{Game, Substep};
+
+    /// Rows of random play: each row's legal mask and a one-hot legal action, and the
+    /// positions of the rows at the MOVE substep.
+    fn rows_of_play(game: Config, n: usize, seed: u64) -> (Vec<f32>, Vec<f32>, Vec<usize>) {
+        let na = game.num_actions();
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let (mut masks, mut one_hot, mut moving) = (vec![0f32; n * na], vec![0f32; n * na], vec![]);
+        let mut g = Game::new(game, rng.next_u64());
+        for k in 0..n {
+            if g.is_over() {
+                g = Game::new(game, rng.next_u64());
+            }
+            let seat = g.current_seat();
+            g.write_legal_mask(seat, &mut masks[k * na..][..na]);
+            if g.substep() == Substep::Move {
+                moving.push(k);
+            }
+            let legal = g.legal_actions(seat);
+            let a = legal[(rng.next_u64() % legal.len() as u64) as usize];
+            one_hot[k * na + game.encode(a)] = 1.0;
+            g.apply(a).unwrap();
+        }
+        (masks, one_hot, moving)
+    }
+
+    /// Per row (in the groups' order): log π(chosen), the entropy and log π(END), from each
+    /// group's masked softmax.
+    fn group_terms(groups: &RowGroups) -> (Tensor<1>, Tensor<1>, Tensor<1>) {
+        let (mut logp, mut h, mut end) = (vec![], vec![], vec![]);
+        for g in &groups.groups {
+            let lp = masked_log_softmax(g.logits.clone(), g.mask.clone());
+            logp.push(chosen_log_prob(lp.clone(), g.one_hot.clone()));
+            h.push(entropy(lp.clone(), g.mask.clone()));
+            end.push(lp.narrow(1, g.end, 1).squeeze_dim::<1>(1));
+        }
+        (side_by_side(logp), side_by_side(h), side_by_side(end))
+    }
+
+    /// On rows of random play (9c-2p and 16c-3p) the split groups give every row the
+    /// log-probability of its action, its entropy and its log-probability of END that the
+    /// softmax over all N_a columns gives, and a loss weighing them row by row has the same
+    /// gradient with respect to every logit that can be legal (0 for the others, which the
+    /// split never reads).
+    #[test]
+    fn split_groups_give_the_full_softmax_terms_and_gradients() {
+        for (name, seed) in [("9c-2p-perfect", 3), ("16c-3p-perfect", 4)] {
+            let game = Config::from_name(name).unwrap();
+            let (na, n) = (game.num_actions(), 40);
+            let layout = game.action_layout();
+            let d = Device::flex().autodiff();
+            let (masks, one_hot, moving) = rows_of_play(game, n, seed);
+            assert!(!moving.is_empty() && moving.len() < n, "{name}: {moving:?}");
+            let mut rng = ChaCha8Rng::seed_from_u64(seed);
+            let values: Vec<f32> = (0..n * na)
+                .map(|_| (rng.next_u32() % 2000) as f32 / 250.0 - 4.0)
+                .collect();
+            let weights: Vec<f32> = (0..n).map(|k| (k % 5) as f32 - 2.0).collect();
+            let leaf = || tensor2(values.clone(), [n, na], &d).require_grad();
+
+            // The full softmax over every column, rows in their own order.
+            let full = leaf();
+            let lp = masked_log_softmax(full.clone(), tensor2(masks.clone(), [n, na], &d));
+            let logp = chosen_log_prob(lp.clone(), tensor2(one_hot.clone(), [n, na], &d));
+            let h = entropy(lp.clone(), tensor2(masks.clone(), [n, na], &d));
+            let end = lp.narrow(1, 1, 1).squeeze_dim::<1>(1);
+            let w = tensor1(weights.clone(), &d);
+            let loss = (logp.clone() * w.clone()).sum() + h.clone().sum() + end.clone().sum();
+            let full_grad = to_vec(full.grad(&loss.backward()).unwrap());
+
+            // The split: the MOVE block cut out of every row, kept for the moving rows.
+            let split = leaf();
+            let others = Tensor::cat(
+                vec![
+                    split.clone().narrow(1, 0, layout.movement),
+                    split.clone().narrow(1, layout.reveal, na - layout.reveal),
+                ],
+                1,
+            );
+            let idx = rows_tensor(moving.iter().map(|&k| k as i64).collect(), &d);
+            let moves = split
+                .clone()
+                .narrow(1, layout.movement, layout.reveal - layout.movement)
+                .select(0, idx);
+            let logits = ActionLogits::Split { others, moves };
+            let groups = RowGroups::new(logits, &moving, &masks, &one_hot, &game, &d);
+            assert_eq!(groups.groups.len(), 2);
+            let order = groups.order().expect("the moving rows go last").to_vec();
+            let (g_logp, g_h, g_end) = group_terms(&groups);
+            let g_w = tensor1(groups.in_group_order(weights.clone()), &d);
+            let g_loss = (g_logp.clone() * g_w).sum() + g_h.clone().sum() + g_end.clone().sum();
+            let split_grad = to_vec(split.grad(&g_loss.backward()).unwrap());
+
+            let close = |a: f32, b: f32| (a - b).abs() <= 2e-5 * (1.0 + a.abs());
+            for (what, a, b) in [
+                ("log π", logp, g_logp),
+                ("H", h, g_h),
+                ("log π(END)", end, g_end),
+            ] {
+                let (a, b) = (to_vec(a), to_vec(b));
+                for (i, &k) in order.iter().enumerate() {
+                    assert!(
+                        close(a[k], b[i]),
+                        "{name} {what} row {k}: {} vs {}",
+                        a[k],
+                        b[i]
+                    );
+                }
+            }
+            for (i, (&a, &b)) in full_grad.iter().zip(&split_grad).enumerate() {
+                let (k, col) = (i / na, i % na);
+                let can_be_legal =
+                    moving.contains(&k) || !(layout.movement..layout.reveal).contains(&col);
+                if can_be_legal {
+                    assert!(close(a, b), "{name} d/d logit ({k}, {col}): {a} vs {b}");
+                } else {
+                    assert!(a.abs() < 1e-20 && b == 0.0, "{name} ({k}, {col}): {a} {b}");
+                }
+            }
+        }
+    }
+
+    /// The dense head's logits are one group over every column, rows in their own order.
+    #[test]
+    fn every_logit_is_one_group_in_the_rows_order() {
+        let game = Config::from_name("9c-2p-perfect").unwrap();
+        let (na, n) = (game.num_actions(), 12);
+        let d = Device::flex();
+        let (masks, one_hot, moving) = rows_of_play(game, n, 5);
+        let logits = ActionLogits::Every(Tensor::zeros([n, na], &d));
+        let groups = RowGroups::new(logits, &moving, &masks, &one_hot, &game, &d);
+        assert_eq!(groups.groups.len(), 1);
+        assert!(groups.order().is_none());
+        assert_eq!(to_vec(groups.groups[0].mask.clone()), masks);
+        assert_eq!(groups.in_group_order(vec![3.0, 1.0]), [3.0, 1.0]);
+    }
+}
