@@ -234,7 +234,7 @@ impl ShardJob<'_> {
             let rows = ChoosingRows {
                 moving,
                 masks: s.masks,
-                one_hot: s.one_hot,
+                actions: s.actions,
                 old_logp: s.old_logp,
                 adv: s.adv,
                 addons: s.addons,
@@ -315,7 +315,7 @@ impl ShardJob<'_> {
             logits,
             &rows.moving,
             &rows.masks,
-            &rows.one_hot,
+            &rows.actions,
             self.game,
             d,
         );
@@ -377,7 +377,7 @@ struct ChoosingRows {
     /// The positions of the rows at the MOVE substep (the pointer head's MOVE rows).
     moving: Vec<usize>,
     masks: Vec<f32>,
-    one_hot: Vec<f32>,
+    actions: Vec<usize>,
     old_logp: Vec<f32>,
     adv: Vec<f32>,
     addons: ShardColumns,

@@ -28,10 +28,11 @@ pub(super) struct Shard {
     pub colours: Vec<f32>,
     /// Rows with one legal action (seats waiting for their turn, or a forced NOOP) carry
     /// no policy gradient: the actor head, the policy loss and the entropy skip them, so
-    /// their masks and one-hot actions are not even gathered. Indices `j·T + t`.
+    /// their masks and actions are not even gathered. Indices `j·T + t`.
     pub choosing: Vec<i64>,
     pub masks: Vec<f32>,
-    pub one_hot: Vec<f32>,
+    /// The action each choosing row took (its index in the game's action order).
+    pub actions: Vec<usize>,
     pub old_logp: Vec<f32>,
     pub adv: Vec<f32>,
     /// The add-ons' rows, per choosing row.
@@ -138,9 +139,7 @@ fn gather_shard(
             }
             s.choosing.push((j * t_len + t) as i64);
             s.masks.extend_from_slice(&ro.masks[i * na..][..na]);
-            let at = s.one_hot.len();
-            s.one_hot.resize(at + na, 0.0);
-            s.one_hot[at + ro.actions[i]] = 1.0;
+            s.actions.push(ro.actions[i]);
             s.old_logp.push(ro.logps[i]);
             s.adv.push(ro.adv[i]);
             gather_addons(ro, i, (addons, &mut s.addons), game);

@@ -38,8 +38,8 @@ pub(super) struct RowGroups {
 
 impl RowGroups {
     /// The groups of `n` choosing rows from the head's logits, the positions `moving` of
-    /// the rows at the MOVE substep (ascending, as the head was given them), and the rows'
-    /// legal masks and one-hot actions `[n × N_a]` in the game's action order.
+    /// the rows at the MOVE substep (ascending, as the head was given them), the rows'
+    /// legal masks `[n × N_a]` and the actions they took, in the game's action order.
     ///
     /// A row off the MOVE substep with a MOVE legal or chosen would lose it here; the head
     /// relies on the same rule (MOVE legal only at the MOVE substep), which the engine's
@@ -48,19 +48,19 @@ impl RowGroups {
         logits: ActionLogits,
         moving: &[usize],
         masks: &[f32],
-        one_hot: &[f32],
+        actions: &[usize],
         game: &Config,
         d: &Device,
     ) -> RowGroups {
         let na = game.num_actions();
-        let n = masks.len() / na;
+        let n = actions.len();
         let end = game.encode(Action::End);
         let (others, moves) = match logits {
             ActionLogits::Every(logits) => {
                 let group = RowGroup {
                     logits,
                     mask: tensor2(masks.to_vec(), [n, na], d),
-                    one_hot: tensor2(one_hot.to_vec(), [n, na], d),
+                    one_hot: one_hots(actions.iter().copied(), na, d),
                     end,
                 };
                 return RowGroups {
@@ -83,24 +83,31 @@ impl RowGroups {
             at_move[k] = true;
         }
         let still: Vec<usize> = (0..n).filter(|&k| !at_move[k]).collect();
+        let moves_block = layout.movement..layout.reveal;
         debug_assert!(
-            still.iter().all(|&k| (layout.movement..layout.reveal)
-                .all(|a| masks[k * na + a] == 0.0 && one_hot[k * na + a] == 0.0)),
+            still.iter().all(|&k| !moves_block.contains(&actions[k])
+                && moves_block.clone().all(|a| masks[k * na + a] == 0.0)),
             "a row off the MOVE substep with a MOVE legal or chosen"
         );
         let group = |rows: &[usize], columns: &[usize], logits: Tensor<2>| {
-            let pick = |v: &[f32]| {
-                let picked = rows
-                    .iter()
-                    .flat_map(|&k| columns.iter().map(move |&a| v[k * na + a]))
-                    .collect();
-                tensor2(picked, [rows.len(), columns.len()], d)
-            };
+            let masks = rows
+                .iter()
+                .flat_map(|&k| columns.iter().map(move |&a| masks[k * na + a]))
+                .collect();
+            // Where each action sits among the group's columns.
+            let mut column_of = vec![usize::MAX; na];
+            for (j, &a) in columns.iter().enumerate() {
+                column_of[a] = j;
+            }
             RowGroup {
                 logits,
-                mask: pick(masks),
-                one_hot: pick(one_hot),
-                end,
+                mask: tensor2(masks, [rows.len(), columns.len()], d),
+                one_hot: one_hots(
+                    rows.iter().map(|&k| column_of[actions[k]]),
+                    columns.len(),
+                    d,
+                ),
+                end: column_of[end],
             }
         };
         let select = |rows: &[usize]| {
@@ -143,6 +150,16 @@ impl RowGroups {
     }
 }
 
+/// One-hot rows `[k, width]` with a 1 at each of `columns`.
+fn one_hots(columns: impl ExactSizeIterator<Item = usize>, width: usize, d: &Device) -> Tensor<2> {
+    let k = columns.len();
+    let mut v = vec![0f32; k * width];
+    for (row, c) in columns.enumerate() {
+        v[row * width + c] = 1.0;
+    }
+    tensor2(v, [k, width], d)
+}
+
 /// Per-row tensors of the groups, one after another: `[Σ k]` in the groups' row order.
 pub(super) fn side_by_side(mut parts: Vec<Tensor<1>>) -> Tensor<1> {
     if parts.len() == 1 {
@@ -161,12 +178,12 @@ mod tests {
     use rand_chacha::ChaCha8Rng;
     use yokai_engine::{Game, Substep};
 
-    /// Rows of random play: each row's legal mask and a one-hot legal action, and the
-    /// positions of the rows at the MOVE substep.
-    fn rows_of_play(game: Config, n: usize, seed: u64) -> (Vec<f32>, Vec<f32>, Vec<usize>) {
+    /// Rows of random play: each row's legal mask and a legal action, and the positions
+    /// of the rows at the MOVE substep.
+    fn rows_of_play(game: Config, n: usize, seed: u64) -> (Vec<f32>, Vec<usize>, Vec<usize>) {
         let na = game.num_actions();
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
-        let (mut masks, mut one_hot, mut moving) = (vec![0f32; n * na], vec![0f32; n * na], vec![]);
+        let (mut masks, mut actions, mut moving) = (vec![0f32; n * na], vec![], vec![]);
         let mut g = Game::new(game, rng.next_u64());
         for k in 0..n {
             if g.is_over() {
@@ -179,10 +196,10 @@ mod tests {
             }
             let legal = g.legal_actions(seat);
             let a = legal[(rng.next_u64() % legal.len() as u64) as usize];
-            one_hot[k * na + game.encode(a)] = 1.0;
+            actions.push(game.encode(a));
             g.apply(a).unwrap();
         }
-        (masks, one_hot, moving)
+        (masks, actions, moving)
     }
 
     /// Per row (in the groups' order): log π(chosen), the entropy and log π(END), from each
@@ -210,7 +227,10 @@ mod tests {
             let (na, n) = (game.num_actions(), 40);
             let layout = game.action_layout();
             let d = Device::flex().autodiff();
-            let (masks, one_hot, moving) = rows_of_play(game, n, seed);
+            let (masks, actions, moving) = rows_of_play(game, n, seed);
+            let one_hot: Vec<f32> = (0..n * na)
+                .map(|i| (actions[i / na] == i % na) as u8 as f32)
+                .collect();
             assert!(!moving.is_empty() && moving.len() < n, "{name}: {moving:?}");
             let mut rng = ChaCha8Rng::seed_from_u64(seed);
             let values: Vec<f32> = (0..n * na)
@@ -244,7 +264,7 @@ mod tests {
                 .narrow(1, layout.movement, layout.reveal - layout.movement)
                 .select(0, idx);
             let logits = ActionLogits::Split { others, moves };
-            let groups = RowGroups::new(logits, &moving, &masks, &one_hot, &game, &d);
+            let groups = RowGroups::new(logits, &moving, &masks, &actions, &game, &d);
             assert_eq!(groups.groups.len(), 2);
             let order = groups.order().expect("the moving rows go last").to_vec();
             let (g_logp, g_h, g_end) = group_terms(&groups);
@@ -287,12 +307,17 @@ mod tests {
         let game = Config::from_name("9c-2p-perfect").unwrap();
         let (na, n) = (game.num_actions(), 12);
         let d = Device::flex();
-        let (masks, one_hot, moving) = rows_of_play(game, n, 5);
+        let (masks, actions, moving) = rows_of_play(game, n, 5);
         let logits = ActionLogits::Every(Tensor::zeros([n, na], &d));
-        let groups = RowGroups::new(logits, &moving, &masks, &one_hot, &game, &d);
+        let groups = RowGroups::new(logits, &moving, &masks, &actions, &game, &d);
         assert_eq!(groups.groups.len(), 1);
         assert!(groups.order().is_none());
         assert_eq!(to_vec(groups.groups[0].mask.clone()), masks);
+        let one_hot = to_vec(groups.groups[0].one_hot.clone());
+        for (k, &a) in actions.iter().enumerate() {
+            let row = &one_hot[k * na..][..na];
+            assert!(row[a] == 1.0 && row.iter().sum::<f32>() == 1.0, "row {k}");
+        }
         assert_eq!(groups.in_group_order(vec![3.0, 1.0]), [3.0, 1.0]);
     }
 }
