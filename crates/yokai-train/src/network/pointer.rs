@@ -152,18 +152,8 @@ impl PointerHead {
         h: Tensor<2>,
         moving: &[usize],
     ) -> (Tensor<2>, Tensor<2>, Option<Tensor<3>>) {
-        let g = self.shape.board.grid;
         let parts = self.parts(nodes, h);
-        let [_, y, _] = parts.cards.dims();
-        let moves = if moving.is_empty() {
-            Tensor::zeros([0, y * g * g], &parts.cards.device())
-        } else {
-            let device = parts.cards.device();
-            let idx = rows_tensor(moving.iter().map(|&r| r as i64).collect(), &device);
-            let near = self.shape.board.near(&parts.at.select(idx.clone()));
-            self.move_scores(parts.cards.clone().select(0, idx), near)
-                .reshape([moving.len(), y * g * g])
-        };
+        let moves = self.moves_of_rows(parts.cards.clone(), &parts.at, moving);
         (parts.in_action_order(None), moves, parts.colours)
     }
 
@@ -225,19 +215,27 @@ impl PointerHead {
                     return all;
                 }
                 let idx = rows_tensor(rows.iter().map(|&r| r as i64).collect(), &device);
-                let near = board.near(&at.select(idx.clone()));
-                let scores = self.move_scores(cards.select(0, idx.clone()), near);
-                all.select_assign(
-                    0,
-                    idx,
-                    scores.reshape([rows.len(), y * g * g]),
-                    IndexingUpdateOp::Add,
-                )
+                let scores = self.moves_of_rows(cards, at, rows);
+                all.select_assign(0, idx, scores, IndexingUpdateOp::Add)
             }
             _ => self
                 .move_scores(cards, board.near(at))
                 .reshape([b, y * g * g]),
         }
+    }
+
+    /// The MOVE logits `[rows.len(), Y·g²]` of the rows `rows` (positions, in its order).
+    fn moves_of_rows(&self, cards: Tensor<3>, at: &Positions, rows: &[usize]) -> Tensor<2> {
+        let [_, y, _] = cards.dims();
+        let g = self.shape.board.grid;
+        let device = cards.device();
+        if rows.is_empty() {
+            return Tensor::zeros([0, y * g * g], &device);
+        }
+        let idx = rows_tensor(rows.iter().map(|&r| r as i64).collect(), &device);
+        let near = self.shape.board.near(&at.select(idx.clone()));
+        self.move_scores(cards.select(0, idx), near)
+            .reshape([rows.len(), y * g * g])
     }
 }
 
@@ -482,6 +480,63 @@ mod tests {
             }
         }
         assert!(h_every.iter().any(|&v| v != 0.0));
+    }
+
+    /// The learner's split ([`PointerHead::forward_split`]) holds the logits the whole
+    /// head gives: every row's non-MOVE logits in action order, and the MOVE block of each
+    /// row it names, in the order named; with none named, no MOVE rows.
+    #[test]
+    fn the_split_logits_are_the_whole_heads_columns() {
+        let device = Device::flex();
+        let game_config = Config::from_name("9c-2p-perfect").unwrap();
+        let head = PointerHead::new(&game_config, 8, true, true, 1.0, &mut Init::new(6), &device);
+        let [nodes, f] = game_config.node_shape(Part::Full);
+        let l = nodes * f;
+        let layout = game_config.action_layout();
+        let (na, moves) = (game_config.num_actions(), layout.reveal - layout.movement);
+        let mut rng = ChaCha8Rng::seed_from_u64(12);
+        let mut game = Game::new(game_config, 3);
+        let mut x = Vec::new();
+        for _ in 0..10 {
+            let mut row = vec![0f32; l];
+            game.view(game.current_seat())
+                .write_nodes(Part::Full, &mut row)
+                .unwrap();
+            x.extend(row);
+            let legal = game.legal_actions(game.current_seat());
+            game.apply(legal[(rng.next_u64() % legal.len() as u64) as usize])
+                .unwrap();
+        }
+        let b = x.len() / l;
+        let nodes_t = || Tensor::<2>::from_data(TensorData::new(x.clone(), [b, l]), &device);
+        let h = || {
+            let v = (0..b * 8).map(|i| (i % 7) as f32 * 0.2 - 0.5).collect();
+            Tensor::<2>::from_data(TensorData::new(v, [b, 8]), &device)
+        };
+        let (whole, colours) = head.forward_with_colours(nodes_t(), h(), MoveRows::Every);
+        let whole = to_vec(whole);
+        let named = [7usize, 2, 4];
+        let (others, moving, split_colours) = head.forward_split(nodes_t(), h(), &named);
+        let (others, moving) = (to_vec(others), to_vec(moving));
+        assert_eq!(others.len(), b * (na - moves));
+        assert_eq!(moving.len(), named.len() * moves);
+        let close = |a: f32, c: f32| (a - c).abs() <= 1e-5 * (1.0 + a.abs());
+        for r in 0..b {
+            let rest = (0..layout.movement).chain(layout.reveal..na);
+            for (j, a) in rest.enumerate() {
+                let (w, o) = (whole[r * na + a], others[r * (na - moves) + j]);
+                assert!(close(w, o), "row {r} action {a}: {w} vs {o}");
+            }
+        }
+        for (k, &r) in named.iter().enumerate() {
+            for m in 0..moves {
+                let (w, o) = (whole[r * na + layout.movement + m], moving[k * moves + m]);
+                assert!(close(w, o), "row {r} MOVE {m}: {w} vs {o}");
+            }
+        }
+        assert_eq!(to_vec(colours.unwrap()), to_vec(split_colours.unwrap()));
+        let (_, none, _) = head.forward_split(nodes_t(), h(), &[]);
+        assert_eq!(none.dims(), [0, moves]);
     }
 
     /// The factored MOVE scores equal their definition, summed card by card over each
