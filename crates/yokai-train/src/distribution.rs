@@ -41,8 +41,8 @@ pub fn entropy(log_probs: Tensor<2>, mask: Tensor<2>) -> Tensor<1> {
     (p * log_probs * mask).sum_dim(1).squeeze_dim::<1>(1).neg()
 }
 
-/// Entropy `[B]` of the binary choice "action `a` or another" in each row, from each
-/// row's log-probability of `a`: how undecided the row is about that one action.
+/// Entropy `[B]` of the binary choice "this action or another" in each row, from each
+/// row's log-probability of the action: how undecided the row is about that one action.
 pub fn binary_entropy(log_p: Tensor<1>) -> Tensor<1> {
     let p = log_p.clone().exp();
     let rest = (p.clone().neg() + 1.0).clamp_min(1e-7);

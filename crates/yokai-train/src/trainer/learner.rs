@@ -6,7 +6,7 @@
 use super::addons::{AddOns, ShardColumns};
 use super::minibatch::{self, Shard, Totals};
 use super::rollout::Rollout;
-use super::row_groups::{side_by_side, RowGroups};
+use super::row_groups::RowGroups;
 use super::Trainer;
 use crate::distribution::{chosen_log_prob, entropy, masked_log_softmax};
 use crate::network::{shards_on, ActionLogits, ActorCritic, Encoder, Recurrent};
@@ -287,8 +287,8 @@ impl ShardJob<'_> {
 
     /// The terms read off the choosing rows' heads: the clipped policy loss, the entropy
     /// bonus, the END add-ons' bonus, the belief loss, and the ratio diagnostics. The
-    /// softmax runs over each row's group of columns that can be legal ([`RowGroups`]);
-    /// every term is a sum over rows, taken in the groups' row order.
+    /// softmax runs over each row's group of columns that can be legal ([`RowGroups`]),
+    /// whose per-row terms come back in the rows' own order.
     fn policy_terms(
         &self,
         (logits, colour_logits): (ActionLogits, Option<Tensor<3>>),
@@ -319,44 +319,32 @@ impl ShardJob<'_> {
             self.game,
             d,
         );
-        let end_rows = match (&self.addons.end, end) {
-            (Some(unit), Some(end_rows)) => Some((
-                unit,
-                match groups.order() {
-                    Some(order) => end_rows.reorder(order),
-                    None => end_rows,
-                },
-            )),
-            _ => None,
-        };
         let (mut logp, mut row_entropy, mut log_p_end) = (Vec::new(), Vec::new(), Vec::new());
         for group in groups.groups.iter() {
             let log_probs = masked_log_softmax(group.logits.clone(), group.mask.clone());
             logp.push(chosen_log_prob(log_probs.clone(), group.one_hot.clone()));
-            if end_rows.is_some() {
+            if self.addons.end.is_some() {
                 let end = log_probs.clone().narrow(1, group.end, 1);
                 log_p_end.push(end.squeeze_dim::<1>(1));
             }
             row_entropy.push(entropy(log_probs, group.mask.clone()));
         }
-        let (logp, row_entropy) = (side_by_side(logp), side_by_side(row_entropy));
-        let end_bonus = match end_rows {
-            Some((unit, end_rows)) => unit.bonus(
-                side_by_side(log_p_end),
+        let (logp, row_entropy) = (groups.in_row_order(logp), groups.in_row_order(row_entropy));
+        let end_bonus = match (&self.addons.end, end) {
+            (Some(unit), Some(end_rows)) => unit.bonus(
+                groups.in_row_order(log_p_end),
                 end_rows,
                 self.totals.rows_with_end,
                 d,
             ),
-            None => zero(),
+            _ => zero(),
         };
         let entropy = match (&self.addons.entropy, entropy_weight) {
-            (Some(unit), Some(weights)) => {
-                unit.weigh(row_entropy, groups.in_group_order(weights), d) / n_all
-            }
+            (Some(unit), Some(weights)) => unit.weigh(row_entropy, weights, d) / n_all,
             _ => row_entropy.sum() / n_all,
         };
-        let adv = tensor1(groups.in_group_order(rows.adv), d);
-        let delta = logp - tensor1(groups.in_group_order(rows.old_logp), d);
+        let adv = tensor1(rows.adv, d);
+        let delta = logp - tensor1(rows.old_logp, d);
         let ratio = delta.clone().exp();
         let diagnostics = ratio_diagnostics(delta.detach(), ratio.clone().detach(), c.clip);
         let clipped = ratio.clone().clamp(1.0 - c.clip, 1.0 + c.clip);

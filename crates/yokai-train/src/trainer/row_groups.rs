@@ -6,9 +6,9 @@
 //! quarter of a seat's decisions. With the pointer head ([`ActionLogits::Split`]) the rows
 //! off that substep form a group over the other 48 columns, the rows at it a group over
 //! all of them; the dense head's logits ([`ActionLogits::Every`]) are one group over every
-//! column. Every loss term is a sum over rows, so the groups' per-row terms are put side by
-//! side (in the groups' row order, which [`RowGroups::in_group_order`] gives the per-row
-//! inputs too) and summed as before.
+//! column. The groups' per-row terms are put back in the rows' own order
+//! ([`RowGroups::in_row_order`]), so everything after the softmax reads them as it read
+//! the whole softmax's.
 
 use crate::network::ActionLogits;
 use crate::tensor::{rows_tensor, tensor2};
@@ -31,9 +31,9 @@ pub(super) struct RowGroup {
 /// A shard's choosing rows as groups (none empty).
 pub(super) struct RowGroups {
     pub groups: Vec<RowGroup>,
-    /// The choosing rows' positions in the groups' row order; `None` when that is the
-    /// rows' own order.
-    order: Option<Vec<usize>>,
+    /// Where each choosing row sits among the groups' rows (the groups one after
+    /// another); `None` when that is the rows' own order.
+    back: Option<Tensor<1, Int>>,
 }
 
 impl RowGroups {
@@ -65,7 +65,7 @@ impl RowGroups {
                 };
                 return RowGroups {
                     groups: vec![group],
-                    order: None,
+                    back: None,
                 };
             }
             ActionLogits::Split { others, moves } => (others, moves),
@@ -127,26 +127,30 @@ impl RowGroups {
             let logits = Tensor::cat(vec![select(moving), moves], 1);
             groups.push(group(moving, &moving_columns, logits));
         }
-        let order: Vec<usize> = still.iter().chain(moving).copied().collect();
-        let in_order = order.iter().enumerate().all(|(i, &k)| i == k);
+        let order = still.iter().chain(moving);
+        let mut back = vec![0i64; n];
+        for (i, &k) in order.enumerate() {
+            back[k] = i as i64;
+        }
+        let in_order = back.iter().enumerate().all(|(k, &i)| i == k as i64);
         RowGroups {
             groups,
-            order: (!in_order).then_some(order),
+            back: (!in_order).then(|| rows_tensor(back, d)),
         }
     }
 
-    /// A per-row input (one value per choosing row, in the rows' order) in the groups' row
-    /// order.
-    pub fn in_group_order(&self, values: Vec<f32>) -> Vec<f32> {
-        match &self.order {
-            None => values,
-            Some(order) => order.iter().map(|&k| values[k]).collect(),
+    /// Per-row tensors of the groups (one per group, in the order of `groups`) as one
+    /// `[n]` tensor in the choosing rows' own order.
+    pub fn in_row_order(&self, mut per_group: Vec<Tensor<1>>) -> Tensor<1> {
+        let joined = if per_group.len() == 1 {
+            per_group.pop().expect("one group")
+        } else {
+            Tensor::cat(per_group, 0)
+        };
+        match &self.back {
+            None => joined,
+            Some(back) => joined.select(0, back.clone()),
         }
-    }
-
-    /// The groups' row order (positions into the choosing rows), `None` when it is theirs.
-    pub fn order(&self) -> Option<&[usize]> {
-        self.order.as_deref()
     }
 }
 
@@ -158,15 +162,6 @@ fn one_hots(columns: impl ExactSizeIterator<Item = usize>, width: usize, d: &Dev
         v[row * width + c] = 1.0;
     }
     tensor2(v, [k, width], d)
-}
-
-/// Per-row tensors of the groups, one after another: `[Σ k]` in the groups' row order.
-pub(super) fn side_by_side(mut parts: Vec<Tensor<1>>) -> Tensor<1> {
-    if parts.len() == 1 {
-        parts.pop().expect("one part")
-    } else {
-        Tensor::cat(parts, 0)
-    }
 }
 
 #[cfg(test)]
@@ -202,7 +197,7 @@ mod tests {
         (masks, actions, moving)
     }
 
-    /// Per row (in the groups' order): log π(chosen), the entropy and log π(END), from each
+    /// Per row (in the rows' order): log π(chosen), the entropy and log π(END), from each
     /// group's masked softmax.
     fn group_terms(groups: &RowGroups) -> (Tensor<1>, Tensor<1>, Tensor<1>) {
         let (mut logp, mut h, mut end) = (vec![], vec![], vec![]);
@@ -212,7 +207,11 @@ mod tests {
             h.push(entropy(lp.clone(), g.mask.clone()));
             end.push(lp.narrow(1, g.end, 1).squeeze_dim::<1>(1));
         }
-        (side_by_side(logp), side_by_side(h), side_by_side(end))
+        (
+            groups.in_row_order(logp),
+            groups.in_row_order(h),
+            groups.in_row_order(end),
+        )
     }
 
     /// On rows of random play (9c-2p and 16c-3p) the split groups give every row the
@@ -266,9 +265,12 @@ mod tests {
             let logits = ActionLogits::Split { others, moves };
             let groups = RowGroups::new(logits, &moving, &masks, &actions, &game, &d);
             assert_eq!(groups.groups.len(), 2);
-            let order = groups.order().expect("the moving rows go last").to_vec();
+            assert!(
+                groups.back.is_some(),
+                "the moving rows go last among the groups'"
+            );
             let (g_logp, g_h, g_end) = group_terms(&groups);
-            let g_w = tensor1(groups.in_group_order(weights.clone()), &d);
+            let g_w = tensor1(weights.clone(), &d);
             let g_loss = (g_logp.clone() * g_w).sum() + g_h.clone().sum() + g_end.clone().sum();
             let split_grad = to_vec(split.grad(&g_loss.backward()).unwrap());
 
@@ -279,12 +281,12 @@ mod tests {
                 ("log π(END)", end, g_end),
             ] {
                 let (a, b) = (to_vec(a), to_vec(b));
-                for (i, &k) in order.iter().enumerate() {
+                for k in 0..n {
                     assert!(
-                        close(a[k], b[i]),
+                        close(a[k], b[k]),
                         "{name} {what} row {k}: {} vs {}",
                         a[k],
-                        b[i]
+                        b[k]
                     );
                 }
             }
@@ -311,13 +313,14 @@ mod tests {
         let logits = ActionLogits::Every(Tensor::zeros([n, na], &d));
         let groups = RowGroups::new(logits, &moving, &masks, &actions, &game, &d);
         assert_eq!(groups.groups.len(), 1);
-        assert!(groups.order().is_none());
+        assert!(groups.back.is_none());
         assert_eq!(to_vec(groups.groups[0].mask.clone()), masks);
         let one_hot = to_vec(groups.groups[0].one_hot.clone());
         for (k, &a) in actions.iter().enumerate() {
             let row = &one_hot[k * na..][..na];
             assert!(row[a] == 1.0 && row.iter().sum::<f32>() == 1.0, "row {k}");
         }
-        assert_eq!(groups.in_group_order(vec![3.0, 1.0]), [3.0, 1.0]);
+        let per_row = Tensor::<1>::from_data(TensorData::new(vec![3.0f32, 1.0], [2]), &d);
+        assert_eq!(to_vec(groups.in_row_order(vec![per_row])), [3.0, 1.0]);
     }
 }

@@ -92,22 +92,6 @@ impl EndAddOn {
     }
 }
 
-impl EndRows {
-    /// The rows in the order `order` names (positions into the rows as gathered).
-    pub fn reorder(self, order: &[usize]) -> EndRows {
-        let pick = |v: &[f32]| order.iter().map(|&k| v[k]).collect();
-        EndRows {
-            legal: pick(&self.legal),
-            // Empty without the END term.
-            adv: if self.adv.is_empty() {
-                Vec::new()
-            } else {
-                pick(&self.adv)
-            },
-        }
-    }
-}
-
 impl EndRewards {
     /// The column as recorded.
     #[cfg(test)]
