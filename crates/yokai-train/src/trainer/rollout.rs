@@ -13,6 +13,7 @@ use crate::network::{shards_on, ActorCritic, Encoder, Recurrent};
 use crate::obl::{self, OblStep, StepInputs};
 use burn::module::Module;
 use rand_chacha::ChaCha8Rng;
+use std::ops::Range;
 use yokai_engine::{Action, Game, MetricsAccumulator};
 
 /// One rollout, time-major (`[T, rows, …]`), as learning reads it.
@@ -172,9 +173,15 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             let (encoding, dev) = (E::encoding(), &self.infer_device);
             previous.observe(&self.actor, o, encoding, &keep, dev);
         }
+        // Each row's legal actions lie in its span (its substep's action groups): counting
+        // and drawing read those columns only, 48 or fewer of 777 on 9c off the MOVE
+        // substep, one for a waiting seat. The other columns are illegal, so the counts
+        // and draws are those over the whole row.
+        let spans: Vec<Range<usize>> = (0..rows).map(|r| self.actor.legal_span(r)).collect();
         let legal = &mut ro.legal[t * rows..][..rows];
         for (r, count) in legal.iter_mut().enumerate() {
-            *count = m[r * na..][..na].iter().filter(|&&x| x > 0.5).count() as u32;
+            let mask = &m[r * na..][spans[r].clone()];
+            *count = mask.iter().filter(|&&x| x > 0.5).count() as u32;
         }
         // The actor runs on the rows that choose; `chosen` holds their logits in row
         // order. A row with one legal action (a waiting seat's NOOP, a forced move) is
@@ -210,7 +217,10 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             } else {
                 &no_choice[..]
             };
-            let (a, lp, h) = sample_row(logits, &m[r * na..][..na], u, false);
+            let span = spans[r].clone();
+            let (a, lp, h) =
+                sample_row(&logits[span.clone()], &m[r * na..][span.clone()], u, false);
+            let a = span.start + a;
             ro.actions[t * rows + r] = a;
             ro.logps[t * rows + r] = lp;
             if acting[r / p] as usize == r % p {
