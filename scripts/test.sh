@@ -9,8 +9,12 @@ cd "$(dirname "$0")/.."
 # it PyTorch's CUDA wheels). CI once ran out of disk, so the log says how much there was
 # and how much the run took.
 disk_report() { echo "disk ($1): $(df -h . | awk 'NR==2 {print $4 " free of " $2}'); target $(du -sh target 2>/dev/null | cut -f1), .venv $(du -sh .venv 2>/dev/null | cut -f1)" >&2; }
+# Each phase's start is logged with the seconds since the start, so a log shows where the
+# suite's time goes (CI has 40 minutes for all of it).
+phase() { echo "== $1 (at ${SECONDS} s)" >&2; }
 disk_report start
-trap 'disk_report end' EXIT
+trap 'phase "end, rc $?"; disk_report end' EXIT
+phase "formatting and lints"
 cargo fmt --all -- --check
 # The CUDA build's stand-in crate is its own workspace (vendor/cubecl-llvm-nvrtc).
 rustfmt --edition 2024 --check vendor/cubecl-llvm-nvrtc/src/lib.rs
@@ -20,14 +24,17 @@ cargo clippy --workspace --all-targets --release -- -D warnings
 # vendor/cubecl-llvm-nvrtc) from rotting (docs/training.md, "Training on a GPU"). Test
 # targets included: the tests that exist only in a GPU build (the backend's device for
 # `cuda` and `vulkan`) are type-checked and linted, so they cannot rot unseen either.
+phase "lints of the GPU builds"
 cargo clippy -p yokai-train -p yokai-cli --features yokai-train/vulkan --all-targets --release -- -D warnings
 cargo clippy -p yokai-train -p yokai-cli --features yokai-train/cuda --all-targets --release -- -D warnings
 # The Python extension without the trainer (no burn), as `MATURIN_PEP517_ARGS=
 # --no-default-features pip install ./python` builds it (docs/python.md).
 cargo clippy -p yokai-python --no-default-features --release -- -D warnings
+phase "Rust tests"
 cargo test --workspace --release
 
 # Python: a fresh machine needs nothing but python3 (with venv) and the Rust toolchain.
+phase "Python: venv, wheels, PyTorch, browser"
 if [ ! -x .venv/bin/python ]; then
     python3 -m venv .venv
 fi
@@ -110,4 +117,7 @@ MATURIN_PEP517_ARGS="--no-default-features" .venv/bin/python -m pip wheel --quie
     -w target/lean-wheel ./python
 .venv-lean/bin/python -m pip uninstall --quiet --yes yokai > /dev/null 2>&1 || true
 .venv-lean/bin/python -m pip install --quiet --force-reinstall target/lean-wheel/*.whl
-YOKAI_LEAN_PYTHON="$PWD/.venv-lean/bin/python" .venv/bin/python -m pytest -q -rs python/tests
+phase "Python tests"
+# The ten slowest tests are listed at the end, to see where the suite's time goes (CI has
+# 40 minutes for all of this).
+YOKAI_LEAN_PYTHON="$PWD/.venv-lean/bin/python" .venv/bin/python -m pytest -q -rs --durations=10 python/tests
