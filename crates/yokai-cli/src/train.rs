@@ -289,13 +289,23 @@ impl SeedJob<'_> {
             max_updates: args.max_updates,
             backend: args.device,
         };
+        // Without a terminal (a job under nohup, a batch system, a pipe) the bars are hidden:
+        // plain lines instead, at every tenth of the run and at least every 10 minutes.
+        let mut plain = self
+            .progress
+            .is_hidden()
+            .then(|| PlainProgress::new(seed, total));
         let summary = train_run(&request, &mut |s, _| {
             bar.set_position(s.update);
             let r = s.games.map_or("–".into(), |m| format!("{:+.2}", m.reward));
-            bar.set_message(format!(
-                "| {} steps | {:.0} SPS | R {r} | H {:.2}",
+            let status = format!(
+                "{} steps | {:.0} SPS | R {r} | H {:.2}",
                 s.env_steps, s.sps, s.entropy
-            ));
+            );
+            if let Some(plain) = &mut plain {
+                plain.report(s.update, &status);
+            }
+            bar.set_message(format!("| {status}"));
         })?;
         bar.finish_and_clear();
         self.progress.remove(&bar);
@@ -324,6 +334,46 @@ impl SeedJob<'_> {
             let _ = self.progress.println(line);
         }
         Ok(dir)
+    }
+}
+
+/// A seed's progress as plain lines on stderr, for runs without a terminal.
+struct PlainProgress {
+    seed: u64,
+    total: u64,
+    /// The next tenth of the run to report.
+    next_tenth: u64,
+    last: std::time::Instant,
+}
+
+impl PlainProgress {
+    /// Lines at least this far apart report even between tenths (long runs).
+    const HEARTBEAT: std::time::Duration = std::time::Duration::from_secs(600);
+
+    fn new(seed: u64, total: u64) -> PlainProgress {
+        PlainProgress {
+            seed,
+            total: total.max(1),
+            next_tenth: 1,
+            last: std::time::Instant::now(),
+        }
+    }
+
+    /// After update `update` (1-based): a line where it reaches the next tenth of the
+    /// run, or 10 minutes passed since the last line.
+    fn report(&mut self, update: u64, status: &str) {
+        let tenth = update * 10 / self.total;
+        if tenth < self.next_tenth && self.last.elapsed() < Self::HEARTBEAT {
+            return;
+        }
+        self.next_tenth = tenth + 1;
+        self.last = std::time::Instant::now();
+        eprintln!(
+            "seed {}: update {update}/{} ({} %) | {status}",
+            self.seed,
+            self.total,
+            update * 100 / self.total
+        );
     }
 }
 

@@ -2,14 +2,14 @@
 //! ones are refused before anything is written.
 
 mod common;
-use common::{yokai_err, yokai_ok};
+use common::yokai_err;
 
 #[test]
 fn overrides_reach_the_saved_config_and_the_run() {
     let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("runs");
-    let out_s = out.to_str().unwrap();
-    yokai_ok(&[
+    let out_dir = dir.path().join("runs");
+    let out_s = out_dir.to_str().unwrap();
+    let out = common::yokai(&[
         "train",
         "quick",
         "--seeds",
@@ -33,7 +33,17 @@ fn overrides_reach_the_saved_config_and_the_run() {
         "--set",
         "ppo.lr=0.002",
     ]);
-    let run = out.join("seed-0");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    // Without a terminal the progress is plain lines: one per tenth of the run reached,
+    // here both updates (50 % and 100 %).
+    for line in [
+        "seed 0: update 1/2 (50 %) | 64 steps",
+        "seed 0: update 2/2 (100 %) | 128 steps",
+    ] {
+        assert!(stderr.contains(line), "no `{line}` in {stderr}");
+    }
+    let run = out_dir.join("seed-0");
     let saved: toml::Table = std::fs::read_to_string(run.join("config.toml"))
         .unwrap()
         .parse()

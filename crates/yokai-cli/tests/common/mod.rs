@@ -1,5 +1,8 @@
 //! What the CLI tests share: running the `yokai` binary built for this test run.
 
+// Each test file compiles this module on its own and uses some of it.
+#![allow(dead_code)]
+
 use std::process::{Command, Output};
 
 /// Run `yokai` with `args` and collect its output.
