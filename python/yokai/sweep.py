@@ -57,6 +57,7 @@ import functools
 import json
 import os
 import pathlib
+import re
 import shutil
 import signal
 import subprocess
@@ -202,8 +203,10 @@ def _train_run(yokai: str, config: str, seed: int, runs: pathlib.Path, threads: 
         raise RuntimeError(f"yokai train {config} seed {seed} ({run}) exited with {proc.returncode}:\n"
                            f"{stderr[-2000:]}")
     # yokai's summary, "seed N: U updates, S env steps (S' now, in T s: …)", says how many
-    # steps this attempt trained, hence where it resumed.
-    summary = next((l for l in stderr.splitlines() if l.startswith(f"seed {seed}: ")), "")
+    # steps this attempt trained, hence where it resumed. (Its progress lines, "seed N:
+    # update U/T (P %) | …", come before it.)
+    summary = next((l for l in stderr.splitlines()
+                    if re.match(rf"seed {seed}: \d+ updates, ", l)), "")
     _note(run, f"pid {os.getpid()} done: {summary}")
     (run / DONE).write_text(summary)
     return {"seed": seed, "status": "resumed" if resume else "trained", "log": stderr.strip()}
