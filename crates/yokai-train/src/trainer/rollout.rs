@@ -174,9 +174,9 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             previous.observe(&self.actor, o, encoding, &keep, dev);
         }
         // Each row's legal actions lie in its span (its substep's action groups): counting
-        // and drawing read those columns only, 48 or fewer of 777 on 9c off the MOVE
-        // substep, one for a waiting seat. The other columns are illegal, so the counts
-        // and draws are those over the whole row.
+        // and drawing read those columns only, at most 37 of 777 on 9c off the MOVE
+        // substep (740 at it), one for a waiting seat. The other columns are illegal, so
+        // the counts and draws are those over the whole row.
         let spans: Vec<Range<usize>> = (0..rows).map(|r| self.actor.legal_span(r)).collect();
         let legal = &mut ro.legal[t * rows..][..rows];
         for (r, count) in legal.iter_mut().enumerate() {
