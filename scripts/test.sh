@@ -24,7 +24,7 @@ cargo clippy --workspace --all-targets --release -- -D warnings
 # vendor/cubecl-llvm-nvrtc) from rotting (docs/training.md, "Training on a GPU"). Test
 # targets included: the tests that exist only in a GPU build (the backend's device for
 # `cuda` and `vulkan`) are type-checked and linted, so they cannot rot unseen either.
-phase "lints of the GPU builds"
+phase "lints of the GPU builds and the lean Python extension"
 cargo clippy -p yokai-train -p yokai-cli --features yokai-train/vulkan --all-targets --release -- -D warnings
 cargo clippy -p yokai-train -p yokai-cli --features yokai-train/cuda --all-targets --release -- -D warnings
 # The Python extension without the trainer (no burn), as `MATURIN_PEP517_ARGS=
@@ -118,6 +118,5 @@ MATURIN_PEP517_ARGS="--no-default-features" .venv/bin/python -m pip wheel --quie
 .venv-lean/bin/python -m pip uninstall --quiet --yes yokai > /dev/null 2>&1 || true
 .venv-lean/bin/python -m pip install --quiet --force-reinstall target/lean-wheel/*.whl
 phase "Python tests"
-# The ten slowest tests are listed at the end, to see where the suite's time goes (CI has
-# 40 minutes for all of this).
+# pytest lists its ten slowest tests at the end, for the same reason as the phase lines.
 YOKAI_LEAN_PYTHON="$PWD/.venv-lean/bin/python" .venv/bin/python -m pytest -q -rs --durations=10 python/tests
