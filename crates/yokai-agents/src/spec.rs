@@ -1,5 +1,5 @@
 //! Policies by name: `random`, `greedy`, `belief`, with parameters as
-//! `belief:continue_win=0.9,end_margin=0.5`.
+//! `belief:continue_win=0.9,end_margin=0.5` or `belief:grounded=true`.
 
 use crate::{BeliefParams, BeliefPolicy, GreedyPolicy, Policy, RandomPolicy};
 use std::fmt;
@@ -99,11 +99,19 @@ impl FromStr for PolicySpec {
                             }
                         }
                         "end_margin" => p.end_margin = number()?,
+                        "grounded" => {
+                            p.grounded = v.parse::<bool>().map_err(|_| SpecError::BadValue {
+                                policy: name.to_string(),
+                                param: k.to_string(),
+                                value: v.to_string(),
+                                expected: "`true` or `false`",
+                            })?
+                        }
                         _ => {
                             return Err(SpecError::UnknownParam {
                                 policy: name.to_string(),
                                 param: k.to_string(),
-                                known: "continue_win, end_margin",
+                                known: "continue_win, end_margin, grounded",
                             })
                         }
                     }
@@ -121,11 +129,17 @@ impl fmt::Display for PolicySpec {
             PolicySpec::Random => write!(f, "random"),
             PolicySpec::Greedy => write!(f, "greedy"),
             PolicySpec::Belief(p) if *p == BeliefParams::default() => write!(f, "belief"),
-            PolicySpec::Belief(p) => write!(
-                f,
-                "belief:continue_win={},end_margin={}",
-                p.continue_win, p.end_margin
-            ),
+            PolicySpec::Belief(p) => {
+                write!(
+                    f,
+                    "belief:continue_win={},end_margin={}",
+                    p.continue_win, p.end_margin
+                )?;
+                if p.grounded {
+                    write!(f, ",grounded=true")?;
+                }
+                Ok(())
+            }
         }
     }
 }

@@ -343,6 +343,61 @@ fn policy_names_parse_and_bad_ones_say_why() {
     assert!(err("belief:continue_win=x").contains("not a number"));
     assert!(err("belief:continue_win=2").contains("probability"));
     assert!(err("belief:continue_win").contains("name:key=value"));
+    let grounded: PolicySpec = "belief:grounded=true".parse().unwrap();
+    assert_eq!(
+        grounded.to_string(),
+        "belief:continue_win=0.85,end_margin=0,grounded=true"
+    );
+    assert_eq!(
+        grounded.to_string().parse::<PolicySpec>().unwrap(),
+        grounded
+    );
+    assert!(err("belief:grounded=yes").contains("`true` or `false`"));
+}
+
+/// A grounded bot reads nothing into its partner's actions: through a whole game of
+/// self-play its public set stays every colouring and its posterior is exactly the
+/// colourings that agree with what its seat observed itself, where the trusting bot's
+/// public set shrinks.
+#[test]
+fn a_grounded_belief_bot_knows_only_what_its_seat_saw() {
+    let config = Config::from_name("9c-2p").unwrap();
+    let all = all_colourings(&config);
+    let grounded = BeliefParams {
+        grounded: true,
+        ..BeliefParams::default()
+    };
+    let mut shrank = 0;
+    for seed in 0..20u64 {
+        let mut game = Game::new(config, seed);
+        let mut bots: Vec<BeliefPolicy> = (0..2).map(|s| BeliefPolicy::new(grounded, s)).collect();
+        let mut trusting: Vec<BeliefPolicy> = (0..2)
+            .map(|s| BeliefPolicy::new(BeliefParams::default(), s))
+            .collect();
+        while !game.is_over() {
+            let seat = game.current_seat();
+            let view = game.view(seat);
+            let posterior = bots[seat.index()].posterior(&view);
+            let seen = game.ever_observed(seat);
+            let key = Colouring::from_colours(&game.deal().card_colours).restricted(seen);
+            let first_hand: Vec<Colouring> = all
+                .iter()
+                .filter(|x| x.restricted(seen) == key)
+                .copied()
+                .collect();
+            assert_eq!(posterior, first_hand, "seed {seed}, step {}", game.steps());
+            let action = bots[seat.index()].act(&view);
+            for s in 0..2 {
+                let v = game.view(Seat(s as u8));
+                bots[s].observe(&v, seat, action);
+                trusting[s].observe(&v, seat, action);
+                assert_eq!(bots[s].public_set().len(), all.len());
+            }
+            shrank += (trusting[0].public_set().len() < all.len()) as usize;
+            game.apply(action).unwrap();
+        }
+    }
+    assert!(shrank > 0, "the trusting bot reads its partner");
 }
 
 /// Ends the game whenever it may.

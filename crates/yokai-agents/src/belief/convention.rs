@@ -15,6 +15,11 @@ pub struct BeliefParams {
     pub continue_win: f64,
     /// Extra margin (in reward points) that ending must win by.
     pub end_margin: f64,
+    /// Read nothing into partners' actions: the posterior is first-hand knowledge and the
+    /// colour counts only, as Off-Belief Learning's level-1 belief. The bot still plays
+    /// its convention; it just does not trust its partner to. A reference for what a
+    /// grounded seat, one without conventions, can score (docs/bots.md).
+    pub grounded: bool,
 }
 
 impl Default for BeliefParams {
@@ -22,6 +27,7 @@ impl Default for BeliefParams {
         BeliefParams {
             continue_win: 0.85,
             end_margin: 0.0,
+            grounded: false,
         }
     }
 }

@@ -172,7 +172,7 @@ impl Policy for BeliefPolicy {
 
     fn observe(&mut self, before: &SeatView<'_>, actor: Seat, action: Action) {
         self.prepare(before.config());
-        if self.all.is_some() && self.trusting {
+        if self.all.is_some() && self.trusting && !self.params.grounded {
             self.filter_public(&before.public(), actor, action);
         }
     }
