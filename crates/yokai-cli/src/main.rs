@@ -9,6 +9,7 @@ mod play;
 mod playthrough;
 mod plots;
 mod probe;
+mod probe_end;
 mod random;
 mod replay;
 mod serve;
@@ -70,6 +71,9 @@ enum Command {
     /// Linear probes of card colours in trained policies' memories, by game step, in
     /// self-play and with partners, against chance and a perfect-memory oracle.
     Probe(probe::Args),
+    /// Where trained policies could END, what they did against what the seat knew
+    /// first-hand: do they reach boards they know to be clustered, and END there?
+    ProbeEnd(probe_end::Args),
     /// Play with agents in a web browser: a local server with the board, clickable moves,
     /// bots shown step by step, replays, and every game recorded (docs/play.md).
     Serve(serve::Args),
@@ -105,6 +109,7 @@ fn main() -> ExitCode {
         Command::Export(args) => export::run(args),
         Command::Replay(args) => replay::run(args),
         Command::Probe(args) => probe::run(args),
+        Command::ProbeEnd(args) => probe_end::run(args),
         Command::Serve(args) => serve::run(args),
     };
     match result {

@@ -119,6 +119,19 @@ pub fn draw_row(
     sample_row(scratch, mask, u, false).0
 }
 
+/// P(END) over the legal actions of a row (`mask` 0/1, END at index `end`, legal), at
+/// temperature 1: 1 / (1 + Σ_{a ≠ END} exp(l_a − l_END)), in f64 and without overflow; 1
+/// where END is the only legal action.
+pub fn end_probability(logits: &[f32], mask: &[f32], end: usize) -> f64 {
+    let mut others = 0.0f64;
+    for (a, (&l, &m)) in logits.iter().zip(mask.iter()).enumerate() {
+        if m > 0.5 && a != end {
+            others += (l as f64 - logits[end] as f64).min(700.0).exp();
+        }
+    }
+    1.0 / (1.0 + others)
+}
+
 /// One move from a row of logits for a policy that decides END (`act.end_threshold`):
 /// where END (index `end`) is legal and its probability over the legal actions exceeds
 /// `threshold`, END; otherwise a draw (with `u`, at `temperature` as [`draw_row`]) over the
@@ -137,15 +150,8 @@ pub fn decide_end_row(
     scratch: &mut Vec<f32>,
 ) -> usize {
     if mask[end] > 0.5 {
-        // P(END) = 1 / (1 + Σ_{a ≠ END} exp(l_a − l_END)), in f64 and without overflow.
-        let (mut others, mut any_other) = (0.0f64, false);
-        for (a, (&l, &m)) in logits.iter().zip(mask.iter()).enumerate() {
-            if m > 0.5 && a != end {
-                others += (l as f64 - logits[end] as f64).min(700.0).exp();
-                any_other = true;
-            }
-        }
-        if !any_other || 1.0 / (1.0 + others) > threshold as f64 {
+        // Where END alone is legal its probability is 1: END.
+        if end_probability(logits, mask, end) > threshold as f64 {
             return end;
         }
         mask[end] = 0.0;

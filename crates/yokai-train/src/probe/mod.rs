@@ -13,7 +13,11 @@
 //!   cards left (what first-hand memory and the counts allow without any inference from
 //!   partners).
 //! - [`study::Study`] is what `yokai probe` runs: those steps for runs and partners.
+//!
+//! [`ending`] probes a different question with the same kind of self-play: where a policy
+//! could END, what it did against what its seat knew first-hand (`yokai probe-end`).
 
+pub mod ending;
 mod logistic;
 pub mod study;
 
