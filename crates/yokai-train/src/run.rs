@@ -250,6 +250,9 @@ fn write(path: &Path, text: &str) -> Result<(), TrainError> {
 }
 
 /// Drop metric lines past the checkpoint's update, so that a resumed log has no duplicates.
+/// The kept lines go to a file beside the log that is then renamed over it: rewriting the
+/// log in place truncates it first, and a run killed in that window (seen under load in
+/// `tests/crash.rs`) lost every line before the checkpoint for good.
 fn truncate_metrics(path: &Path, update: u64) -> Result<(), TrainError> {
     let text = std::fs::read_to_string(path).unwrap_or_default();
     let kept: String = text
@@ -257,7 +260,9 @@ fn truncate_metrics(path: &Path, update: u64) -> Result<(), TrainError> {
         .filter(|l| serde_json::from_str::<UpdateStats>(l).is_ok_and(|s| s.update <= update))
         .map(|l| format!("{l}\n"))
         .collect();
-    write(path, &kept)
+    let tmp = path.with_extension("jsonl.tmp");
+    write(&tmp, &kept)?;
+    std::fs::rename(&tmp, path).map_err(|e| io(path, e))
 }
 
 /// Read a run's belief curve (`belief.jsonl`, OBL levels ≥ 2): each update's figures in
