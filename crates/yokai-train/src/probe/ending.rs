@@ -152,18 +152,8 @@ pub fn end_chances(policy: &TrainedPolicy, games: usize, seed: u64) -> Vec<EndCh
             // Every seat's memory reads the state; the acting seats' logits come with it.
             let stepped: Vec<_> = (0..p)
                 .map(|s| {
-                    let rows: Vec<(&Game, Seat)> =
-                        open.iter().map(|&g| (&live[g], Seat(s as u8))).collect();
-                    let rows_h = open
-                        .iter()
-                        .flat_map(|&g| states[s][g * h..][..h].iter().copied())
-                        .collect();
-                    let keep = vec![(step > 0) as u8 as f32; open.len()];
-                    let stepped = policy.step_seats(&rows, rows_h, keep);
-                    for (k, &g) in open.iter().enumerate() {
-                        states[s][g * h..][..h].copy_from_slice(&stepped.states[k * h..][..h]);
-                    }
-                    stepped
+                    let seat = Seat(s as u8);
+                    super::step_memories(policy, &live, &open, seat, &mut states[s], step == 0)
                 })
                 .collect();
             for (k, &g) in open.iter().enumerate() {

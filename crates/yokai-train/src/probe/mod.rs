@@ -110,17 +110,16 @@ pub fn record(
             let mut steps = Vec::with_capacity(p);
             for (s, policy) in seats.iter().enumerate() {
                 let h = policy.hidden_size();
-                let rows: Vec<(&Game, Seat)> =
-                    open.iter().map(|&g| (&live[g], Seat(s as u8))).collect();
-                let rows_h = open
-                    .iter()
-                    .flat_map(|&g| states[s][g * h..][..h].iter().copied())
-                    .collect();
-                let keep = vec![(step > 0) as u8 as f32; open.len()];
-                let stepped = policy.step_seats(&rows, rows_h, keep);
+                let stepped = step_memories(
+                    policy,
+                    &live,
+                    &open,
+                    Seat(s as u8),
+                    &mut states[s],
+                    step == 0,
+                );
                 let new = &stepped.states;
                 for (k, &g) in open.iter().enumerate() {
-                    states[s][g * h..][..h].copy_from_slice(&new[k * h..][..h]);
                     if recorded[s] {
                         let game = &live[g];
                         out.states.extend_from_slice(&new[k * h..][..h]);
@@ -150,6 +149,32 @@ pub fn record(
         }
     }
     out
+}
+
+/// One step of `seat`'s memory in each game `open` of `live`, with `policy`: `states` holds
+/// the memory of every game (`policy.hidden_size()` wide each) and gets the new ones back;
+/// `first` starts fresh memories. Returns the step (the new states of the open games in
+/// order, and the acting seats' logits).
+pub(crate) fn step_memories(
+    policy: &TrainedPolicy,
+    live: &[Game],
+    open: &[usize],
+    seat: Seat,
+    states: &mut [f32],
+    first: bool,
+) -> crate::SeatStep {
+    let h = policy.hidden_size();
+    let rows: Vec<(&Game, Seat)> = open.iter().map(|&g| (&live[g], seat)).collect();
+    let rows_h = open
+        .iter()
+        .flat_map(|&g| states[g * h..][..h].iter().copied())
+        .collect();
+    let keep = vec![!first as u8 as f32; open.len()];
+    let stepped = policy.step_seats(&rows, rows_h, keep);
+    for (k, &g) in open.iter().enumerate() {
+        states[g * h..][..h].copy_from_slice(&stepped.states[k * h..][..h]);
+    }
+    stepped
 }
 
 /// What each probe names: one card id's colour, wherever it lies, or the colour of the card
