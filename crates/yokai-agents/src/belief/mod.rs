@@ -71,7 +71,8 @@ impl BeliefPolicy {
     }
 
     fn restart(&mut self) {
-        self.trusting = true;
+        // A grounded bot never trusts its partners: it starts where a betrayed one ends up.
+        self.trusting = !self.params.grounded;
         self.public = self.all.as_ref().map_or_else(Vec::new, |all| all.to_vec());
     }
 
@@ -172,7 +173,7 @@ impl Policy for BeliefPolicy {
 
     fn observe(&mut self, before: &SeatView<'_>, actor: Seat, action: Action) {
         self.prepare(before.config());
-        if self.all.is_some() && self.trusting && !self.params.grounded {
+        if self.all.is_some() && self.trusting {
             self.filter_public(&before.public(), actor, action);
         }
     }
