@@ -24,7 +24,8 @@ pub struct Dims {
 }
 
 /// What the forward pass keeps for the backward one, per row and step: the reset gate, the
-/// update gate, the candidate state and the candidate's hidden map `gh_c` (`[B, T, 4H]`).
+/// update gate, the candidate state, the candidate's hidden map `gh_c` and the state the
+/// step read, `p = h_{t−1}·keep_t` (`[B, T, 5H]`).
 pub type Cache = Vec<f32>;
 
 /// `dst[m×n] (+)= lhs[m×k] · rhs[k×n]`, each given by its pointer, row stride and column
@@ -116,7 +117,7 @@ pub fn forward(
     bias: &[f32],
 ) -> (Vec<f32>, Cache) {
     let Dims { b, t: len, h } = d;
-    let (g, c4) = (3 * h, 4 * h);
+    let (g, c4) = (3 * h, 5 * h);
     debug_assert_eq!(
         (gx.len(), h0.len(), keep.len(), w.len(), bias.len()),
         (b * len * g, b * h, b * len, h * g, g)
@@ -154,7 +155,7 @@ pub fn forward(
                 let ghc = at(a, 2) + at(bias, 2);
                 let c = (at(x, 2) + r * ghc).tanh();
                 store(out, j, n, c + z * (load(p, j, n) - c));
-                for (k, v) in [r, z, c, ghc].into_iter().enumerate() {
+                for (k, v) in [r, z, c, ghc, load(p, j, n)].into_iter().enumerate() {
                     store(cached, k * h + j, n, v);
                 }
             }
@@ -165,34 +166,17 @@ pub fn forward(
 
 /// The gradients of a loss with respect to `gx`, `h0`, `w` and `bias`, from its gradient
 /// `dhs` with respect to every step's state `[B, T, H]`: back-propagation through time over
-/// the forward pass's `hs` and [`Cache`].
-#[allow(clippy::too_many_arguments)]
-pub fn backward(
-    d: Dims,
-    h0: &[f32],
-    keep: &[f32],
-    w: &[f32],
-    hs: &[f32],
-    cache: &[f32],
-    dhs: &[f32],
-) -> Grads {
+/// the forward pass's [`Cache`].
+pub fn backward(d: Dims, keep: &[f32], w: &[f32], cache: &[f32], dhs: &[f32]) -> Grads {
     let Dims { b, t: len, h } = d;
-    let (g, c4) = (3 * h, 4 * h);
+    let (g, c4) = (3 * h, 5 * h);
     let mut dgx = vec![0.0; b * len * g];
     // The gradient of the hidden map's output `gh` at every step, `[B, T, 3H]`: the
     // weights' gradient is one product over all steps at the end.
     let mut dgh = vec![0.0; b * len * g];
     // The gradient flowing into h_{t−1} from later steps.
     let mut carry = vec![0.0; b * h];
-    let mut ps = vec![0.0; b * len * h];
-    let mut p = vec![0.0; b * h];
     for t in (0..len).rev() {
-        reset_states(d, t, h0, keep, hs, &mut p);
-        ps.chunks_exact_mut(h)
-            .skip(t)
-            .step_by(len)
-            .zip(p.chunks_exact(h))
-            .for_each(|(dst, src)| dst.copy_from_slice(src));
         // dp = dh ⊙ z here; the hidden map's part is added by the product below.
         for row in 0..b {
             let at = row * len + t;
@@ -200,14 +184,15 @@ pub fn backward(
             let (dx, da) = (&mut dgx[at * g..][..g], &mut dgh[at * g..][..g]);
             for j in 0..h {
                 let dh = dhs[at * h + j] + carry[row * h + j];
-                let (r, z, c, ghc) = (
+                let (r, z, c, ghc, p) = (
                     cached[j],
                     cached[h + j],
                     cached[2 * h + j],
                     cached[3 * h + j],
+                    cached[4 * h + j],
                 );
                 let dc = dh * (1.0 - z) * (1.0 - c * c);
-                let dz = dh * (p[row * h + j] - c) * z * (1.0 - z);
+                let dz = dh * (p - c) * z * (1.0 - z);
                 let dr = dc * ghc * r * (1.0 - r);
                 dx[j] = dr;
                 dx[h + j] = dz;
@@ -239,15 +224,16 @@ pub fn backward(
         }
     }
     let mut dw = vec![0.0; h * g];
-    // SAFETY: ps is [B·T, h] read as psᵀ [h, B·T]; dgh [B·T, g]; dw [h, g].
+    // SAFETY: the cached p are rows [B·T, h] of stride c4 from offset 4h, read as pᵀ
+    // [h, B·T]; dgh [B·T, g]; dw [h, g].
     unsafe {
         product(
             (h, g, b * len),
             dw.as_mut_ptr(),
             (g, 1),
             false,
-            ps.as_ptr(),
-            (1, h),
+            cache.as_ptr().add(4 * h),
+            (1, c4),
             dgh.as_ptr(),
             (g, 1),
         );

@@ -65,18 +65,31 @@ pub trait GruSequenceOps: Backend {
         w: FloatTensor<Self>,
         bias: FloatTensor<Self>,
     ) -> FloatTensor<Self> {
-        let device = gx.device();
-        let d = dims(&gx);
-        let (hs, _) = host::forward(
-            d,
-            &read::<Self>(gx),
-            &read::<Self>(h0),
-            &read::<Self>(keep),
-            &read::<Self>(w),
-            &read::<Self>(bias),
-        );
-        write::<Self, 3>(hs, [d.b, d.t, d.h], &device)
+        forward_on::<Self>(gx, h0, keep, w, bias).0
     }
+}
+
+/// The forward pass on the host: the states as a tensor of `B`, and what the backward
+/// pass needs.
+fn forward_on<B: Backend>(
+    gx: FloatTensor<B>,
+    h0: FloatTensor<B>,
+    keep: FloatTensor<B>,
+    w: FloatTensor<B>,
+    bias: FloatTensor<B>,
+) -> (FloatTensor<B>, Saved) {
+    let (device, d) = (gx.device(), dims(&gx));
+    let (keep, w) = (read::<B>(keep), read::<B>(w));
+    let (hs, cache) = host::forward(
+        d,
+        &read::<B>(gx),
+        &read::<B>(h0),
+        &keep,
+        &w,
+        &read::<B>(bias),
+    );
+    let saved = Saved { d, keep, w, cache };
+    (write::<B, 3>(hs, [d.b, d.t, d.h], &device), saved)
 }
 
 impl GruSequenceOps for Flex {}
@@ -112,10 +125,8 @@ fn write<B: Backend, const D: usize>(
 #[derive(Clone, Debug)]
 struct Saved {
     d: Dims,
-    h0: Vec<f32>,
     keep: Vec<f32>,
     w: Vec<f32>,
-    hs: Vec<f32>,
     cache: host::Cache,
 }
 
@@ -130,7 +141,7 @@ impl<B: Backend> Backward<B, 4> for GruBackward {
         let grad = grads.consume::<B>(&ops.node);
         let device = grad.device();
         let s = ops.state;
-        let g = host::backward(s.d, &s.h0, &s.keep, &s.w, &s.hs, &s.cache, &read::<B>(grad));
+        let g = host::backward(s.d, &s.keep, &s.w, &s.cache, &read::<B>(grad));
         let Dims { b, t, h } = s.d;
         if let Some(node) = gx {
             grads.register::<B>(node.id, write::<B, 3>(g.gx, [b, t, 3 * h], &device));
@@ -156,34 +167,15 @@ impl<B: Backend + GruSequenceOps, C: CheckpointStrategy> GruSequenceOps for Auto
         bias: FloatTensor<Self>,
     ) -> FloatTensor<Self> {
         let parents = [gx.node(), h0.node(), w.node(), bias.node()];
-        let d = dims(gx.primitive());
-        let device = gx.primitive().device();
-        let (h0, keep, w) = (
-            read::<B>(h0.into_primitive()),
-            read::<B>(keep.into_primitive()),
-            read::<B>(w.into_primitive()),
+        let (out, saved) = forward_on::<B>(
+            gx.into_primitive(),
+            h0.into_primitive(),
+            keep.into_primitive(),
+            w.into_primitive(),
+            bias.into_primitive(),
         );
-        let (hs, cache) = host::forward(
-            d,
-            &read::<B>(gx.into_primitive()),
-            &h0,
-            &keep,
-            &w,
-            &read::<B>(bias.into_primitive()),
-        );
-        let out = write::<B, 3>(hs.clone(), [d.b, d.t, d.h], &device);
         match GruBackward.prepare::<C>(parents).compute_bound().stateful() {
-            OpsKind::Tracked(prep) => {
-                let saved = Saved {
-                    d,
-                    h0,
-                    keep,
-                    w,
-                    hs,
-                    cache,
-                };
-                prep.finish(saved, out)
-            }
+            OpsKind::Tracked(prep) => prep.finish(saved, out),
             OpsKind::UnTracked(prep) => prep.finish(out),
         }
     }
