@@ -35,6 +35,7 @@ use super::board::Board;
 use super::Encoder;
 use crate::config::{EncoderKind, GraphReadout, TrainConfig, GRAPH_HEADS};
 use crate::init::Init;
+use crate::tensor::FoldedLinear;
 use burn::module::{Module, Param};
 use burn::nn::{LayerNorm, LayerNormConfig, Linear};
 use burn::prelude::*;
@@ -232,7 +233,10 @@ impl GraphEncoder {
             ],
             2,
         );
-        let mut h = relu(self.input.forward(Tensor::cat(vec![real, virtual_node], 1)));
+        let mut h = relu(
+            self.input
+                .forward_folded(Tensor::cat(vec![real, virtual_node], 1)),
+        );
         for layer in &self.layers {
             h = match (layer, &structure) {
                 (GraphLayer::Gcn(l), Some(a)) => h.clone() + l.forward(h, a.clone()),
@@ -254,7 +258,7 @@ impl GraphEncoder {
             .preembed
             .iter()
             .zip(&self.modalities)
-            .map(|(layer, &(at, n))| layer.forward(x.clone().narrow(2, at, n)))
+            .map(|(layer, &(at, n))| layer.forward_folded(x.clone().narrow(2, at, n)))
             .collect();
         Tensor::cat(parts, 2)
     }
@@ -298,7 +302,7 @@ impl GcnLayer {
     }
 
     fn forward(&self, h: Tensor<3>, normalised: Tensor<3>) -> Tensor<3> {
-        relu(normalised.matmul(self.weight.forward(h)))
+        relu(normalised.matmul(self.weight.forward_folded(h)))
     }
 }
 
@@ -311,8 +315,8 @@ impl GatLayer {
     fn forward(&self, h: Tensor<3>, blocked: Tensor<3>) -> Tensor<3> {
         let [b, v, d] = h.dims();
         let (heads, dh) = (GRAPH_HEADS, d / GRAPH_HEADS);
-        let source = self.source.forward(h.clone());
-        let target = self.target.forward(h);
+        let source = self.source.forward_folded(h.clone());
+        let target = self.target.forward_folded(h);
         // s[b, i, j] = W_t h_i + W_s h_j for every pair, then the score per head.
         let pairs = target.reshape([b, v, 1, d]).expand([b, v, v, d])
             + source.clone().reshape([b, 1, v, d]).expand([b, v, v, d]);
@@ -341,9 +345,9 @@ impl RelationLayer {
         let [b, v, d] = h.dims();
         let (heads, dh) = (GRAPH_HEADS, d / GRAPH_HEADS);
         let split = |t: Tensor<3>| t.reshape([b, v, heads, dh]).swap_dims(1, 2);
-        let q = split(self.query.forward(h.clone()));
-        let k = split(self.key.forward(h.clone()));
-        let values = split(self.value.forward(h.clone()));
+        let q = split(self.query.forward_folded(h.clone()));
+        let k = split(self.key.forward_folded(h.clone()));
+        let values = split(self.value.forward_folded(h.clone()));
         let scores = q.matmul(k.swap_dims(2, 3)).div_scalar((dh as f32).sqrt());
         let attended = softmax(scores, 3)
             .matmul(values)
@@ -351,8 +355,10 @@ impl RelationLayer {
             .reshape([b, v, d]);
         let h = self
             .norm_attention
-            .forward(h + self.output.forward(attended));
-        let mlp = self.back.forward(relu(self.hidden.forward(h.clone())));
+            .forward(h + self.output.forward_folded(attended));
+        let mlp = self
+            .back
+            .forward_folded(relu(self.hidden.forward_folded(h.clone())));
         self.norm_mlp.forward(h + mlp)
     }
 }

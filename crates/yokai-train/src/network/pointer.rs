@@ -25,7 +25,7 @@
 
 use super::board::{Board, Positions};
 use crate::init::Init;
-use crate::tensor::rows_tensor;
+use crate::tensor::{rows_tensor, FoldedLinear};
 use burn::module::{Module, Param};
 use burn::nn::Linear;
 use burn::prelude::*;
@@ -168,7 +168,7 @@ impl PointerHead {
         let [b, _] = nodes.dims();
         let x: Tensor<3> = nodes.reshape([b, y + nh, f]);
         let context: Tensor<3> = self.context.forward(h.clone()).unsqueeze_dim(1);
-        let z = relu(self.node.forward(x.clone()) + context.expand([b, y + nh, WIDTH]));
+        let z = relu(self.node.forward_folded(x.clone()) + context.expand([b, y + nh, WIDTH]));
         let z_cards = z.clone().narrow(1, 0, y);
         let z_hints = z.narrow(1, y, nh);
 
@@ -176,15 +176,18 @@ impl PointerHead {
         // Card adjacency `[B, Y, Y]`, then one message-passing step.
         let touching = self.shape.board.card_adjacency(&at);
         let gathered = touching.matmul(z_cards.clone());
-        let cards = relu(z_cards + self.message.forward(gathered));
+        let cards = relu(z_cards + self.message.forward_folded(gathered));
 
-        let observe = self.observe.forward(cards.clone()).reshape([b, y]);
+        let observe = self.observe.forward_folded(cards.clone()).reshape([b, y]);
         let place = self
             .hint_query
-            .forward(z_hints)
-            .matmul(self.hint_key.forward(cards.clone()).swap_dims(1, 2))
+            .forward_folded(z_hints)
+            .matmul(self.hint_key.forward_folded(cards.clone()).swap_dims(1, 2))
             .reshape([b, nh * y]);
-        let colours = self.colour.as_ref().map(|c| c.forward(cards.clone()));
+        let colours = self
+            .colour
+            .as_ref()
+            .map(|c| c.forward_folded(cards.clone()));
         let other = if self.shape.pool {
             let mean = cards.clone().mean_dim(1).reshape([b, WIDTH]);
             let max = cards.clone().max_dim(1).reshape([b, WIDTH]);
@@ -291,8 +294,8 @@ impl PointerHead {
     /// updates 11 % faster (docs/training.md, "Speed").
     fn move_scores(&self, cards: Tensor<3>, near: Tensor<3>) -> Tensor<3> {
         let [b, y, cells] = near.dims();
-        let q = self.move_query.forward(cards.clone());
-        let k = self.move_key.forward(cards);
+        let q = self.move_query.forward_folded(cards.clone());
+        let k = self.move_key.forward_folded(cards);
         let own = (q.clone() * k.clone()).sum_dim(2);
         let pairs = q.clone().matmul(k.swap_dims(1, 2));
         let to_cells = q

@@ -21,6 +21,7 @@
 use super::Recurrent;
 use crate::config::{MemoryKind, NetworkConfig};
 use crate::init::Init;
+use crate::tensor::FoldedLinear;
 use burn::module::Module;
 use burn::nn::{LayerNorm, LayerNormConfig, Linear};
 use burn::prelude::*;
@@ -160,8 +161,8 @@ impl Recurrent for TransformerXl {
         let current = normed.clone().narrow(1, m, 1).reshape([b, d]);
         let q = self.query.forward(current).reshape([b, heads, 1, dh]);
         let split = |t: Tensor<3>| t.reshape([b, m + 1, heads, dh]).swap_dims(1, 2);
-        let k = split(self.key.forward(normed.clone()));
-        let v = split(self.value.forward(normed));
+        let k = split(self.key.forward_folded(normed.clone()));
+        let v = split(self.value.forward_folded(normed));
         // Empty slots (before the episode's start, or not filled yet) get −10⁹.
         let seen = Tensor::cat(vec![valid.clone(), Tensor::ones([b, 1], &device)], 1);
         let blocked = (seen - 1.0).mul_scalar(1e9).reshape([b, 1, 1, m + 1]);

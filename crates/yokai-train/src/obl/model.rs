@@ -173,15 +173,9 @@ impl BeliefModel {
             .gru
             .project(x)
             .reshape([b, t, self.gru.projected_size()]);
-        let mut h = h0;
-        let mut states = Vec::with_capacity(t);
-        for s in 0..t {
-            let gx_s: Tensor<2> = gx.clone().narrow(1, s, 1).squeeze_dim(1);
-            h = self.gru.step(gx_s, h * keep.clone().narrow(1, s, 1));
-            states.push(h.clone());
-        }
-        let all: Tensor<3> = Tensor::stack(states, 1);
-        all.reshape([b * t, self.hidden_size()])
+        self.gru
+            .unroll(gx, h0, keep)
+            .reshape([b * t, self.hidden_size()])
     }
 
     /// Width of a node's features in the graph observation.
