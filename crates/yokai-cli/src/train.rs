@@ -395,13 +395,13 @@ mod tests {
         TrainConfig::from_toml_str(text, name).unwrap()
     }
 
-    /// `cpu-fast` says it is `cpu` on 20M steps instead of 28M; nothing else may drift.
+    /// `cpu-fast` says it is `cpu` on 20M steps instead of 40M; nothing else may drift.
     #[test]
     fn cpu_fast_is_the_cpu_preset_on_a_shorter_budget() {
         let (cpu, mut fast) = (preset("cpu"), preset("cpu-fast"));
         assert_eq!(
             (cpu.ppo.total_steps, fast.ppo.total_steps),
-            (28_000_000, 20_000_000)
+            (40_000_000, 20_000_000)
         );
         fast.ppo.total_steps = cpu.ppo.total_steps;
         assert_eq!(cpu, fast);
