@@ -25,8 +25,11 @@ pub struct Dims {
 
 /// What the forward pass keeps for the backward one, per row and step: the reset gate, the
 /// update gate, the candidate state, the candidate's hidden map `gh_c` and the state the
-/// step read, `p = h_{t−1}·keep_t` (`[B, T, 5H]`).
+/// step read, `p = h_{t−1}·keep_t` (`[B, T, CACHED·H]`, in that order).
 pub type Cache = Vec<f32>;
+
+/// Values the [`Cache`] keeps per hidden unit and step.
+const CACHED: usize = 5;
 
 /// `dst[m×n] (+)= lhs[m×k] · rhs[k×n]`, each given by its pointer, row stride and column
 /// stride (elements); one thread (the learner's shards already use every core).
@@ -117,13 +120,13 @@ pub fn forward(
     bias: &[f32],
 ) -> (Vec<f32>, Cache) {
     let Dims { b, t: len, h } = d;
-    let (g, c4) = (3 * h, 5 * h);
+    let (g, stride) = (3 * h, CACHED * h);
     debug_assert_eq!(
         (gx.len(), h0.len(), keep.len(), w.len(), bias.len()),
         (b * len * g, b * h, b * len, h * g, g)
     );
     let mut hs = vec![0.0; b * len * h];
-    let mut cache = vec![0.0; b * len * c4];
+    let mut cache = vec![0.0; b * len * stride];
     let (mut p, mut gh) = (vec![0.0; b * h], vec![0.0; b * g]);
     for t in 0..len {
         reset_states(d, t, h0, keep, &hs, &mut p);
@@ -143,7 +146,7 @@ pub fn forward(
         for row in 0..b {
             let at = row * len + t;
             let (x, a) = (&gx[at * g..][..g], &gh[row * g..][..g]);
-            let (cached, p) = (&mut cache[at * c4..][..c4], &p[row * h..][..h]);
+            let (cached, p) = (&mut cache[at * stride..][..stride], &p[row * h..][..h]);
             let out = &mut hs[at * h..][..h];
             // Eight units at a time: the gates' exp and tanh in `wide`'s lanes, as burn's CPU
             // backend (vendor/burn-flex) computes them for the step-by-step GRU.
@@ -169,7 +172,7 @@ pub fn forward(
 /// the forward pass's [`Cache`].
 pub fn backward(d: Dims, keep: &[f32], w: &[f32], cache: &[f32], dhs: &[f32]) -> Grads {
     let Dims { b, t: len, h } = d;
-    let (g, c4) = (3 * h, 5 * h);
+    let (g, stride) = (3 * h, CACHED * h);
     let mut dgx = vec![0.0; b * len * g];
     // The gradient of the hidden map's output `gh` at every step, `[B, T, 3H]`: the
     // weights' gradient is one product over all steps at the end.
@@ -180,7 +183,7 @@ pub fn backward(d: Dims, keep: &[f32], w: &[f32], cache: &[f32], dhs: &[f32]) ->
         // dp = dh ⊙ z here; the hidden map's part is added by the product below.
         for row in 0..b {
             let at = row * len + t;
-            let cached = &cache[at * c4..][..c4];
+            let cached = &cache[at * stride..][..stride];
             let (dx, da) = (&mut dgx[at * g..][..g], &mut dgh[at * g..][..g]);
             for j in 0..h {
                 let dh = dhs[at * h + j] + carry[row * h + j];
@@ -224,7 +227,7 @@ pub fn backward(d: Dims, keep: &[f32], w: &[f32], cache: &[f32], dhs: &[f32]) ->
         }
     }
     let mut dw = vec![0.0; h * g];
-    // SAFETY: the cached p are rows [B·T, h] of stride c4 from offset 4h, read as pᵀ
+    // SAFETY: the cached p are rows [B·T, h] of stride CACHED·h from offset 4h, read as pᵀ
     // [h, B·T]; dgh [B·T, g]; dw [h, g].
     unsafe {
         product(
@@ -233,7 +236,7 @@ pub fn backward(d: Dims, keep: &[f32], w: &[f32], cache: &[f32], dhs: &[f32]) ->
             (g, 1),
             false,
             cache.as_ptr().add(4 * h),
-            (1, c4),
+            (1, stride),
             dgh.as_ptr(),
             (g, 1),
         );
