@@ -7,7 +7,7 @@ use yokai_engine::Part;
 use yokai_train::Container;
 use yokai_train::{
     read_metrics, train_run, CriticInput, EncoderKind, EndForm, MlpEncoder, RunRequest,
-    SymmetrySet, TrainConfig, TrainError, TrainedPolicy, Trainer,
+    SymmetrySet, TrainConfig, TrainError, TrainedPolicy, Trainer, UpdateStats,
 };
 
 fn tiny(symmetries: SymmetrySet, updates: u64) -> TrainConfig {
@@ -714,27 +714,50 @@ fn normalized_entropy_reweights_only_the_entropy_bonus() {
     assert_ne!(params(0.05, false), params(0.05, true));
 }
 
-/// Seed 0 of the shipped preset `name` trained `updates` updates on one thread; the mean of
-/// a metric of the training games over the last `last` updates.
-fn last_games_of_preset(
-    name: &str,
-    updates: usize,
-    last: usize,
-) -> impl Fn(&dyn Fn(&yokai_engine::Metrics) -> f64) -> f64 {
+/// The shipped preset `name` with one worker thread per run, as `yokai train` runs seeds
+/// side by side.
+fn preset_on_one_thread(name: &str) -> TrainConfig {
     let path = format!("{}/../../configs/{name}.toml", env!("CARGO_MANIFEST_DIR"));
     let mut config = TrainConfig::from_file(std::path::Path::new(&path)).unwrap();
     config.run.threads = 1;
-    let stats = one_thread(|| {
-        let mut t = Trainer::<MlpEncoder>::new(config, 0).unwrap();
-        (0..updates)
-            .map(|_| t.update().unwrap())
-            .collect::<Vec<_>>()
-    });
-    let games: Vec<_> = stats[updates - last..]
+    config
+}
+
+/// Seeds 0, 1 and 2 of `config`, each trained `updates` updates on its own thread, side by
+/// side: the trainers and each one's statistics per update.
+fn three_seeds(
+    config: &TrainConfig,
+    updates: usize,
+) -> Vec<(Trainer<MlpEncoder>, Vec<UpdateStats>)> {
+    std::thread::scope(|scope| {
+        let runs: Vec<_> = (0..3u64)
+            .map(|seed| {
+                let config = config.clone();
+                scope.spawn(move || {
+                    one_thread(|| {
+                        let mut t = Trainer::<MlpEncoder>::new(config, seed).unwrap();
+                        let stats = (0..updates).map(|_| t.update().unwrap()).collect();
+                        (t, stats)
+                    })
+                })
+            })
+            .collect();
+        runs.into_iter().map(|r| r.join().unwrap()).collect()
+    })
+}
+
+/// The mean reward and win rate of the training games of the last `last` updates in
+/// `stats`.
+fn last_games(stats: &[UpdateStats], last: usize) -> (f64, f64) {
+    let games: Vec<_> = stats[stats.len() - last..]
         .iter()
         .filter_map(|s| s.games)
         .collect();
-    move |f| games.iter().map(f).sum::<f64>() / games.len() as f64
+    let n = games.len() as f64;
+    (
+        games.iter().map(|m| m.reward).sum::<f64>() / n,
+        games.iter().map(|m| m.win_rate).sum::<f64>() / n,
+    )
 }
 
 /// The learning test CI keeps, of the main job's preset: seeds 0, 1 and 2 of the shipped
@@ -751,33 +774,19 @@ fn last_games_of_preset(
 /// with the whole softmax's to 7 digits).
 #[test]
 fn the_main_jobs_preset_beats_greedy_and_ends_games() {
-    let path = format!("{}/../../configs/quick.toml", env!("CARGO_MANIFEST_DIR"));
-    let mut config = TrainConfig::from_file(std::path::Path::new(&path)).unwrap();
-    config.run.threads = 1;
+    let config = preset_on_one_thread("quick");
     let game = config.game_config().unwrap();
     let dir = tempdir("main-job");
     let seeds = [0u64, 1, 2];
-    let files: Vec<_> = std::thread::scope(|scope| {
-        let runs: Vec<_> = seeds
-            .iter()
-            .map(|&seed| {
-                let (config, dir) = (config.clone(), dir.path());
-                scope.spawn(move || {
-                    let trainer = one_thread(|| {
-                        let mut t = Trainer::<MlpEncoder>::new(config, seed).unwrap();
-                        for _ in 0..400 {
-                            t.update().unwrap();
-                        }
-                        t
-                    });
-                    let file = dir.join(format!("policy-{seed}.ykp"));
-                    trainer.policy().write_atomic(&file).unwrap();
-                    file
-                })
-            })
-            .collect();
-        runs.into_iter().map(|r| r.join().unwrap()).collect()
-    });
+    let files: Vec<_> = three_seeds(&config, 400)
+        .into_iter()
+        .zip(seeds)
+        .map(|((trainer, _), seed)| {
+            let file = dir.path().join(format!("policy-{seed}.ykp"));
+            trainer.policy().write_atomic(&file).unwrap();
+            file
+        })
+        .collect();
     let mut per_seed = Vec::new();
     for (seed, file) in seeds.iter().zip(&files) {
         let policy = TrainedPolicy::load(file).unwrap();
@@ -827,21 +836,43 @@ fn the_main_jobs_preset_beats_greedy_and_ends_games() {
 
 /// OBL's learning test: the shipped `obl-cpu` preset (level 1, four decisions per
 /// fictitious continuation) learns within 325 updates (666k steps), measured on its own
-/// training games. With one decision (OBL's one-step targets) level 1 stays at R −2.6 to
-/// −2.9 at every CPU budget measured, up to 10M steps (docs/training.md), and wins almost
-/// never: in a 2M-step run of this preset with `obl.decisions = 1` (2 threads), no 25
-/// updates after the 250th averaged above R −2.72 or a win rate of 0.01. This test's run
-/// (one thread) averaged R −0.08 and a win rate of 0.32 over updates 301–325. A change that
-/// cuts the longer continuation short, or breaks OBL's targets, fails here.
+/// training games, seeds 0–2 side by side. With one decision (OBL's one-step targets)
+/// level 1 stays at R −2.6 to −2.9 at every CPU budget measured, up to 10M steps
+/// (docs/training.md), and wins almost never: in a 2M-step run of this preset with
+/// `obl.decisions = 1` (2 threads), no 25 updates after the 250th averaged above R −2.72 or
+/// a win rate of 0.01; this test's seeds with `obl.decisions = 1` gave R −2.87, −2.76,
+/// −2.85 over updates 301–325 (2026-11-28). So the mean over the seeds must pass −2.7 by
+/// 1.2, and two seeds of three must each pass it: a change that cuts the longer continuation short, or breaks
+/// OBL's targets, fails here.
+///
+/// Three seeds, not one: at 325 updates one seed of three is still slow, and which one moves
+/// with nothing but float rounding (2026-11-28, R over updates 301–325, one thread per
+/// seed): seeds 0, 1, 2 gave −1.55, −0.21, −0.51 (mean −0.76; win rates 0.10, 0.31, 0.26)
+/// with the pointer head's layers folded into one product (cdab2df), and 0.19, −0.16, −2.10
+/// (mean −0.69) on the build before it, which differs only in rounding. A single-seed
+/// test of seed 0 passed on one build and failed on the other.
 #[test]
 fn the_obl_cpu_preset_learns_past_where_one_step_obl_stays() {
-    let mean = last_games_of_preset("obl-cpu", 325, 25);
-    let (reward, wins) = (mean(&|m| m.reward), mean(&|m| m.win_rate));
+    let per_seed: Vec<_> = three_seeds(&preset_on_one_thread("obl-cpu"), 325)
+        .iter()
+        .map(|(_, stats)| last_games(stats, 25))
+        .collect();
+    let mean = |f: fn(&(f64, f64)) -> f64| per_seed.iter().map(f).sum::<f64>() / 3.0;
+    let (reward, wins) = (mean(|s| s.0), mean(|s| s.1));
     assert!(
         reward > -1.5,
-        "mean R of updates 301-325 is {reward:.2}: not past one-step OBL's -2.7 by 1.2"
+        "mean R of updates 301-325 over seeds 0-2 is {reward:.2}: not past one-step OBL's \
+         -2.7 by 1.2 ({per_seed:?})"
     );
-    assert!(wins > 0.1, "win rate {wins:.2} in updates 301-325");
+    assert!(
+        wins > 0.1,
+        "mean win rate {wins:.2} in updates 301-325 ({per_seed:?})"
+    );
+    let learning = per_seed.iter().filter(|(r, _)| *r > -1.5).count();
+    assert!(
+        learning >= 2,
+        "only {learning} of 3 seeds past R -1.5 in updates 301-325 ({per_seed:?})"
+    );
 }
 
 /// Mean P(END) at the first step of `n` fresh deals, under `t`'s network.
@@ -1135,7 +1166,7 @@ fn the_belief_loss_learns_to_name_the_colours_a_seat_has_seen() {
         })
     };
     let (with, with_params) = run(1.0);
-    let accuracy = |s: &[yokai_train::UpdateStats]| {
+    let accuracy = |s: &[UpdateStats]| {
         s.iter().map(|u| u.belief_accuracy.unwrap()).sum::<f64>() / s.len() as f64
     };
     let (first, last) = (accuracy(&with[..3]), accuracy(&with[27..]));
