@@ -2121,6 +2121,70 @@ fn extremum_indices_f32_last_simd(
     )
 }
 
+/// The extremum over `dim` of every block `o` of a contiguous `[outer, dim, inner]` tensor,
+/// into `best` (`inner` values; with `at`, the index along `dim` where each was found).
+///
+/// Patched (PATCHED.md, 4): the published crate finds each of the `outer · inner` outputs
+/// by its own strided walk, a division and a modulo per output and, through rayon, two
+/// collected vectors. This walks each block's `dim` slices in order, comparing along
+/// `inner` contiguous elements: every output still sees its candidates in increasing index
+/// order with the same `is_better`, so the values and indices are the same.
+fn extremum_block<E, F>(
+    data: &[E],
+    (_, dim_size, inner_size): (usize, usize, usize),
+    o: usize,
+    is_better: &F,
+    best: &mut [E],
+    at: Option<&mut [isize]>,
+) where
+    E: Copy,
+    F: Fn(E, E) -> bool,
+{
+    let block = &data[o * dim_size * inner_size..][..dim_size * inner_size];
+    best.copy_from_slice(&block[..inner_size]);
+    let slices = block.chunks_exact(inner_size).enumerate().skip(1);
+    match at {
+        Some(at) => {
+            at.fill(0);
+            for (d, slice) in slices {
+                for ((b, i), &v) in best.iter_mut().zip(at.iter_mut()).zip(slice) {
+                    if is_better(v, *b) {
+                        *b = v;
+                        *i = d as isize;
+                    }
+                }
+            }
+        }
+        None => {
+            for (_, slice) in slices {
+                for (b, &v) in best.iter_mut().zip(slice) {
+                    if is_better(v, *b) {
+                        *b = v;
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// [`extremum_block`] over every block, one after another.
+fn extremum_blocks<E, F>(
+    data: &[E],
+    blocks: (usize, usize, usize),
+    is_better: &F,
+    best: &mut [E],
+    mut at: Option<&mut [isize]>,
+) where
+    E: Copy,
+    F: Fn(E, E) -> bool,
+{
+    let inner_size = blocks.2;
+    for o in 0..blocks.0 {
+        let at = at.as_deref_mut().map(|at| &mut at[o * inner_size..][..inner_size]);
+        extremum_block(data, blocks, o, is_better, &mut best[o * inner_size..][..inner_size], at);
+    }
+}
+
 /// Find extremum value along a dimension. `is_better(new, current) -> bool`.
 fn extremum_dim<E, F>(tensor: &FlexTensor, dim: usize, is_better: F) -> FlexTensor
 where
@@ -2140,6 +2204,28 @@ where
     let out_size = outer_size * inner_size;
     let data: &[E] = tensor.storage();
     let start_offset = tensor.layout().start_offset();
+
+    if inner_size > 1 {
+        let mut values: Vec<E> = vec![data[start_offset]; out_size];
+        let blocks = (outer_size, dim_size, inner_size);
+        let data = &data[start_offset..];
+        #[cfg(feature = "rayon")]
+        if out_size * dim_size >= EXTREMUM_PARALLEL_THRESHOLD {
+            values
+                .par_chunks_mut(inner_size)
+                .enumerate()
+                .for_each(|(o, best)| extremum_block(data, blocks, o, &is_better, best, None));
+        } else {
+            extremum_blocks(data, blocks, &is_better, &mut values, None);
+        }
+        #[cfg(not(feature = "rayon"))]
+        extremum_blocks(data, blocks, &is_better, &mut values, None);
+        return FlexTensor::new(
+            Bytes::from_elems(values),
+            Layout::contiguous(Shape::from(out_shape)),
+            E::dtype(),
+        );
+    }
 
     let find = |flat_idx: usize| -> E {
         let outer = flat_idx / inner_size;
@@ -2195,6 +2281,39 @@ where
     let out_size = outer_size * inner_size;
     let data: &[E] = tensor.storage();
     let start_offset = tensor.layout().start_offset();
+
+    if inner_size > 1 {
+        let mut values: Vec<E> = vec![data[start_offset]; out_size];
+        let mut indices: Vec<isize> = vec![0; out_size];
+        let blocks = (outer_size, dim_size, inner_size);
+        let data = &data[start_offset..];
+        #[cfg(feature = "rayon")]
+        if out_size * dim_size >= EXTREMUM_PARALLEL_THRESHOLD {
+            values
+                .par_chunks_mut(inner_size)
+                .zip(indices.par_chunks_mut(inner_size))
+                .enumerate()
+                .for_each(|(o, (best, at))| {
+                    extremum_block(data, blocks, o, &is_better, best, Some(at))
+                });
+        } else {
+            extremum_blocks(data, blocks, &is_better, &mut values, Some(&mut indices));
+        }
+        #[cfg(not(feature = "rayon"))]
+        extremum_blocks(data, blocks, &is_better, &mut values, Some(&mut indices));
+        return (
+            FlexTensor::new(
+                Bytes::from_elems(values),
+                Layout::contiguous(Shape::from(out_shape.clone())),
+                E::dtype(),
+            ),
+            FlexTensor::new(
+                Bytes::from_elems(indices),
+                Layout::contiguous(Shape::from(out_shape)),
+                INDEX_DTYPE,
+            ),
+        );
+    }
 
     let find = |flat_idx: usize| -> (E, isize) {
         let outer = flat_idx / inner_size;
