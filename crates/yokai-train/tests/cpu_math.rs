@@ -83,16 +83,10 @@ fn an_elements_result_does_not_depend_on_its_position() {
 
 /// max / min along `dim` of a `[a, b, c]` tensor, by a plain loop with burn's rules: the
 /// first index of the extremum wins a tie, and a NaN wins over any number (the first NaN).
-fn extremum_by_loop(
-    xs: &[f32],
-    [a, b, c]: [usize; 3],
-    dim: usize,
-    max: bool,
-) -> (Vec<f32>, Vec<i64>) {
+fn extremum_by_loop(xs: &[f32], dims: [usize; 3], dim: usize, max: bool) -> (Vec<f32>, Vec<i64>) {
     let better =
         |v: f32, best: f32| !best.is_nan() && (v.is_nan() || if max { v > best } else { v < best });
-    let dims = [a, b, c];
-    let strides = [b * c, c, 1];
+    let strides = [dims[1] * dims[2], dims[2], 1];
     let mut out_dims = dims;
     out_dims[dim] = 1;
     let (mut values, mut indices) = (Vec::new(), Vec::new());

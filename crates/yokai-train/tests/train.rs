@@ -723,15 +723,19 @@ fn preset_on_one_thread(name: &str) -> TrainConfig {
     config
 }
 
-/// Seeds 0, 1 and 2 of `config`, each trained `updates` updates on its own thread, side by
-/// side: the trainers and each one's statistics per update.
+/// The seeds the learning tests train, side by side.
+const SEEDS: [u64; 3] = [0, 1, 2];
+
+/// [`SEEDS`] of `config`, each trained `updates` updates on its own thread, side by side:
+/// the trainers and each one's statistics per update.
 fn three_seeds(
     config: &TrainConfig,
     updates: usize,
 ) -> Vec<(Trainer<MlpEncoder>, Vec<UpdateStats>)> {
     std::thread::scope(|scope| {
-        let runs: Vec<_> = (0..3u64)
-            .map(|seed| {
+        let runs: Vec<_> = SEEDS
+            .iter()
+            .map(|&seed| {
                 let config = config.clone();
                 scope.spawn(move || {
                     one_thread(|| {
@@ -777,10 +781,9 @@ fn the_main_jobs_preset_beats_greedy_and_ends_games() {
     let config = preset_on_one_thread("quick");
     let game = config.game_config().unwrap();
     let dir = tempdir("main-job");
-    let seeds = [0u64, 1, 2];
     let files: Vec<_> = three_seeds(&config, 400)
         .into_iter()
-        .zip(seeds)
+        .zip(SEEDS)
         .map(|((trainer, _), seed)| {
             let file = dir.path().join(format!("policy-{seed}.ykp"));
             trainer.policy().write_atomic(&file).unwrap();
@@ -788,7 +791,7 @@ fn the_main_jobs_preset_beats_greedy_and_ends_games() {
         })
         .collect();
     let mut per_seed = Vec::new();
-    for (seed, file) in seeds.iter().zip(&files) {
+    for (seed, file) in SEEDS.iter().zip(&files) {
         let policy = TrainedPolicy::load(file).unwrap();
         assert_eq!(policy.end_threshold(), Some(0.6), "the preset decides END");
         assert_eq!(policy.temperature(), 0.25, "and draws its moves sharper");
@@ -803,7 +806,8 @@ fn the_main_jobs_preset_beats_greedy_and_ends_games() {
         );
         per_seed.push((games.reward, games.early_end));
     }
-    let mean = |f: fn(&(f64, f64)) -> f64| per_seed.iter().map(f).sum::<f64>() / 3.0;
+    let mean =
+        |f: fn(&(f64, f64)) -> f64| per_seed.iter().map(f).sum::<f64>() / per_seed.len() as f64;
     let (reward, early_end) = (mean(|s| s.0), mean(|s| s.1));
     // Measured 2026-11-25 on the development machine (AVX-512 kernels), 128 s, with the
     // preset's play rule (END above 0.6, moves at temperature 0.25): R 2.30, 2.75, 2.55
@@ -821,7 +825,7 @@ fn the_main_jobs_preset_beats_greedy_and_ends_games() {
         early_end > 0.05,
         "{early_end:.2} of games ended early on average (greedy: none; {per_seed:?})"
     );
-    for (seed, (r, _)) in seeds.iter().zip(&per_seed) {
+    for (seed, (r, _)) in SEEDS.iter().zip(&per_seed) {
         assert!(
             *r > 0.51,
             "seed {seed}: self-play R {r:.2} not past greedy's 0.51"
@@ -842,8 +846,8 @@ fn the_main_jobs_preset_beats_greedy_and_ends_games() {
 /// `obl.decisions = 1` (2 threads), no 25 updates after the 250th averaged above R −2.72 or
 /// a win rate of 0.01; this test's seeds with `obl.decisions = 1` gave R −2.87, −2.76,
 /// −2.85 over updates 301–325 (2026-11-28). So the mean over the seeds must pass −2.7 by
-/// 1.2, and two seeds of three must each pass it: a change that cuts the longer continuation short, or breaks
-/// OBL's targets, fails here.
+/// 1.2, and two seeds of three must each pass it: a change that cuts the longer
+/// continuation short, or breaks OBL's targets, fails here.
 ///
 /// Three seeds, not one: at 325 updates one seed of three is still slow, and which one moves
 /// with nothing but float rounding (2026-11-28, R over updates 301–325, one thread per
@@ -857,7 +861,8 @@ fn the_obl_cpu_preset_learns_past_where_one_step_obl_stays() {
         .iter()
         .map(|(_, stats)| last_games(stats, 25))
         .collect();
-    let mean = |f: fn(&(f64, f64)) -> f64| per_seed.iter().map(f).sum::<f64>() / 3.0;
+    let n = per_seed.len() as f64;
+    let mean = |f: fn(&(f64, f64)) -> f64| per_seed.iter().map(f).sum::<f64>() / n;
     let (reward, wins) = (mean(|s| s.0), mean(|s| s.1));
     assert!(
         reward > -1.5,

@@ -2167,22 +2167,47 @@ fn extremum_block<E, F>(
     }
 }
 
-/// [`extremum_block`] over every block, one after another.
-fn extremum_blocks<E, F>(
+/// [`extremum_block`] over every block of a contiguous `[outer, dim, inner]` tensor that
+/// starts at `data[0]`: the extrema `[outer, inner]` and, if `with_indices`, their indices
+/// (else an empty vector). Blocks run in parallel above [`EXTREMUM_PARALLEL_THRESHOLD`].
+fn extremum_over_blocks<E, F>(
     data: &[E],
     blocks: (usize, usize, usize),
     is_better: &F,
-    best: &mut [E],
-    mut at: Option<&mut [isize]>,
-) where
-    E: Copy,
-    F: Fn(E, E) -> bool,
+    with_indices: bool,
+) -> (Vec<E>, Vec<isize>)
+where
+    E: Copy + Send + Sync,
+    F: Fn(E, E) -> bool + Sync,
 {
-    let inner_size = blocks.2;
-    for o in 0..blocks.0 {
-        let at = at.as_deref_mut().map(|at| &mut at[o * inner_size..][..inner_size]);
-        extremum_block(data, blocks, o, is_better, &mut best[o * inner_size..][..inner_size], at);
+    let (outer_size, dim_size, inner_size) = blocks;
+    let out_size = outer_size * inner_size;
+    let mut values: Vec<E> = vec![data[0]; out_size];
+    let mut indices: Vec<isize> = vec![0; if with_indices { out_size } else { 0 }];
+    let block = |(o, (best, at)): (usize, (&mut [E], Option<&mut [isize]>))| {
+        extremum_block(data, blocks, o, is_better, best, at)
+    };
+    // One optional index slice per block, so both forms share the loops below.
+    let at: Vec<Option<&mut [isize]>> = if with_indices {
+        indices.chunks_mut(inner_size).map(Some).collect()
+    } else {
+        (0..outer_size).map(|_| None).collect()
+    };
+    #[cfg(feature = "rayon")]
+    if out_size * dim_size >= EXTREMUM_PARALLEL_THRESHOLD {
+        values
+            .par_chunks_mut(inner_size)
+            .zip(at.into_par_iter())
+            .enumerate()
+            .for_each(block);
+        return (values, indices);
     }
+    values
+        .chunks_mut(inner_size)
+        .zip(at)
+        .enumerate()
+        .for_each(block);
+    (values, indices)
 }
 
 /// Find extremum value along a dimension. `is_better(new, current) -> bool`.
@@ -2206,20 +2231,8 @@ where
     let start_offset = tensor.layout().start_offset();
 
     if inner_size > 1 {
-        let mut values: Vec<E> = vec![data[start_offset]; out_size];
         let blocks = (outer_size, dim_size, inner_size);
-        let data = &data[start_offset..];
-        #[cfg(feature = "rayon")]
-        if out_size * dim_size >= EXTREMUM_PARALLEL_THRESHOLD {
-            values
-                .par_chunks_mut(inner_size)
-                .enumerate()
-                .for_each(|(o, best)| extremum_block(data, blocks, o, &is_better, best, None));
-        } else {
-            extremum_blocks(data, blocks, &is_better, &mut values, None);
-        }
-        #[cfg(not(feature = "rayon"))]
-        extremum_blocks(data, blocks, &is_better, &mut values, None);
+        let (values, _) = extremum_over_blocks(&data[start_offset..], blocks, &is_better, false);
         return FlexTensor::new(
             Bytes::from_elems(values),
             Layout::contiguous(Shape::from(out_shape)),
@@ -2283,24 +2296,9 @@ where
     let start_offset = tensor.layout().start_offset();
 
     if inner_size > 1 {
-        let mut values: Vec<E> = vec![data[start_offset]; out_size];
-        let mut indices: Vec<isize> = vec![0; out_size];
         let blocks = (outer_size, dim_size, inner_size);
-        let data = &data[start_offset..];
-        #[cfg(feature = "rayon")]
-        if out_size * dim_size >= EXTREMUM_PARALLEL_THRESHOLD {
-            values
-                .par_chunks_mut(inner_size)
-                .zip(indices.par_chunks_mut(inner_size))
-                .enumerate()
-                .for_each(|(o, (best, at))| {
-                    extremum_block(data, blocks, o, &is_better, best, Some(at))
-                });
-        } else {
-            extremum_blocks(data, blocks, &is_better, &mut values, Some(&mut indices));
-        }
-        #[cfg(not(feature = "rayon"))]
-        extremum_blocks(data, blocks, &is_better, &mut values, Some(&mut indices));
+        let (values, indices) =
+            extremum_over_blocks(&data[start_offset..], blocks, &is_better, true);
         return (
             FlexTensor::new(
                 Bytes::from_elems(values),
