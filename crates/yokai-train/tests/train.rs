@@ -1002,6 +1002,32 @@ fn the_shaping_anneals_over_the_share_of_the_run_it_is_given() {
 }
 
 #[test]
+fn the_learning_rate_holds_for_its_share_of_the_run_then_falls_to_zero() {
+    let rates = |hold: f32| {
+        let mut c = tiny(SymmetrySet::None, 4);
+        c.ppo.lr = 0.004;
+        c.ppo.lr_hold = hold;
+        let mut t = Trainer::<MlpEncoder>::new(c, 1).unwrap();
+        (0..4).map(|_| t.update().unwrap().lr).collect::<Vec<f64>>()
+    };
+    let close = |got: Vec<f64>, want: [f64; 4]| {
+        let ok = got.iter().zip(want).all(|(g, w)| (g - w).abs() < 1e-12);
+        assert!(ok, "{got:?} against {want:?}");
+    };
+    // Update k of 4 learns at 0.004·min(1, (1 − k/4) / (1 − hold)).
+    close(rates(0.0), [0.004, 0.003, 0.002, 0.001]);
+    close(rates(0.5), [0.004, 0.004, 0.004, 0.002]);
+    close(rates(0.75), [0.004, 0.004, 0.004, 0.004]);
+    // Out of [0, 1): a config error that names the field.
+    for hold in [1.0, -0.1] {
+        let mut c = tiny(SymmetrySet::None, 4);
+        c.ppo.lr_hold = hold;
+        let err = Trainer::<MlpEncoder>::new(c, 1).err().expect("rejected");
+        assert!(err.to_string().contains("ppo.lr_hold"), "{err}");
+    }
+}
+
+#[test]
 fn the_entropy_bonus_follows_its_schedule_into_the_loss() {
     let run = |last: Option<f32>| {
         let mut c = tiny(SymmetrySet::None, 4);

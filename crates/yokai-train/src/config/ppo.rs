@@ -16,6 +16,12 @@ pub struct PpoConfig {
     /// Adam learning rate at the start; annealed linearly to 0 when `anneal_lr`.
     pub lr: f64,
     pub anneal_lr: bool,
+    /// Share of the run, in [0, 1), for which the rate holds at `lr` before its linear
+    /// anneal to 0 begins (with `anneal_lr`). 0 (the paper's, and left out of saved configs)
+    /// anneals over the whole run, so the second half learns at under half the rate; a
+    /// hold keeps the full rate while the policy still improves and anneals only at the end.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub lr_hold: f32,
     pub adam_eps: f64,
     pub gamma: f32,
     pub gae_lambda: f32,
@@ -91,6 +97,7 @@ impl Default for PpoConfig {
             total_steps: 1_000_000_000,
             lr: 3e-4,
             anneal_lr: true,
+            lr_hold: 0.0,
             adam_eps: 1e-5,
             gamma: 0.99,
             gae_lambda: 0.95,
@@ -146,6 +153,9 @@ impl PpoConfig {
                 "must be positive",
             );
         }
+        if !(0.0..1.0).contains(&p.lr_hold) {
+            return bad("ppo.lr_hold", "must lie in [0, 1)");
+        }
         if !(p.shaping_fraction > 0.0 && p.shaping_fraction <= 1.0) {
             return bad("ppo.shaping_fraction", "must lie in (0, 1]");
         }
@@ -163,6 +173,11 @@ impl PpoConfig {
         }
         Ok(())
     }
+}
+
+/// Whether a field is at its left-out value (0), for `skip_serializing_if`.
+fn is_zero(x: &f32) -> bool {
+    *x == 0.0
 }
 
 /// How `ppo.end_lookahead` turns "what END would pay" into a gradient on the END logit.

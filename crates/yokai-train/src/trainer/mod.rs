@@ -254,13 +254,14 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
     }
 
     /// The learning rate, the shaping weight and the entropy bonus at this point of the
-    /// run: the rate falls linearly to 0 with `anneal_lr`, the shaping over the first
+    /// run: the rate falls linearly to 0 with `anneal_lr` (after holding over the first
+    /// `lr_hold`), the shaping over the first
     /// `shaping_fraction`, the bonus from `entropy_coef` to `entropy_final` when given.
     fn schedules(&self) -> (f64, f64, f32) {
         let c = &self.config.ppo;
         let progress = self.update as f64 / self.config.updates() as f64;
         let lr = if c.anneal_lr {
-            c.lr * (1.0 - progress)
+            c.lr * ((1.0 - progress) / (1.0 - c.lr_hold as f64)).min(1.0)
         } else {
             c.lr
         };
