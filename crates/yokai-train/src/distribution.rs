@@ -23,7 +23,7 @@ pub fn sample_legal(game: &yokai_engine::Game, logits: &[f32], rng: &mut impl Rn
 /// f32 resolution), while `exp` stays in the normal range. Pushing illegal logits to
 /// −10⁹ instead gives the same numbers but sends every illegal entry through libm's slow
 /// underflow path, which measured as a fifth of the CPU training time.
-const ILLEGAL_GAP: f32 = 60.0;
+pub(crate) const ILLEGAL_GAP: f32 = 60.0;
 
 /// Log-probabilities `[B, N_a]` from logits and a 0/1 legal mask of the same shape.
 pub fn masked_log_softmax(logits: Tensor<2>, mask: Tensor<2>) -> Tensor<2> {

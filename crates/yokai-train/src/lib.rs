@@ -6,7 +6,8 @@
 //!
 //! Modules depend one way, each only on those above it in this list (CI checks that no two
 //! top-level modules import each other, directly or around a loop):
-//! - leaves: [`config`], [`device`], [`tensor`], [`init`], [`distribution`], [`gae`];
+//! - leaves: [`config`], [`device`], [`tensor`], [`init`], [`distribution`], [`gae`],
+//!   [`host_kernel`] (what the operations computed on the CPU host share);
 //! - [`backend`] (devices by name), then [`error`] (every error a person reads);
 //! - [`artifact`]: files on disk (container, header, run-directory names, SafeTensors);
 //! - [`network`]: the actor-critics;
@@ -21,6 +22,7 @@ pub mod config;
 pub mod device;
 pub mod distribution;
 pub mod gae;
+pub mod host_kernel;
 pub mod init;
 pub mod tensor;
 

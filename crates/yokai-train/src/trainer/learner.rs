@@ -8,7 +8,6 @@ use super::minibatch::{self, Shard, Totals};
 use super::rollout::Rollout;
 use super::row_groups::RowGroups;
 use super::Trainer;
-use crate::distribution::{chosen_log_prob, entropy, masked_log_softmax};
 use crate::network::{shards_on, ActionLogits, ActorCritic, Encoder, Recurrent};
 use crate::tensor::{rows_tensor, tensor1, tensor2};
 use burn::module::{Module, ModuleMapper, ModuleVisitor, Param};
@@ -321,13 +320,12 @@ impl ShardJob<'_> {
         );
         let (mut logp, mut row_entropy, mut log_p_end) = (Vec::new(), Vec::new(), Vec::new());
         for group in groups.groups.iter() {
-            let log_probs = masked_log_softmax(group.logits.clone(), group.mask.clone());
-            logp.push(chosen_log_prob(log_probs.clone(), group.one_hot.clone()));
+            let [chosen, group_entropy, end] = group.terms();
+            logp.push(chosen);
+            row_entropy.push(group_entropy);
             if self.addons.end.is_some() {
-                let end = log_probs.clone().narrow(1, group.end, 1);
-                log_p_end.push(end.squeeze_dim::<1>(1));
+                log_p_end.push(end);
             }
-            row_entropy.push(entropy(log_probs, group.mask.clone()));
         }
         let (logp, row_entropy) = (groups.in_row_order(logp), groups.in_row_order(row_entropy));
         let end_bonus = match (&self.addons.end, end) {

@@ -21,6 +21,7 @@
 
 mod addons;
 mod checkpoint;
+mod choice_terms;
 mod learner;
 mod minibatch;
 #[cfg(test)]

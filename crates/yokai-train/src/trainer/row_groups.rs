@@ -10,8 +10,9 @@
 //! ([`RowGroups::in_row_order`]), so everything after the softmax reads them as it read
 //! the whole softmax's.
 
+use super::choice_terms::choice_terms;
 use crate::network::ActionLogits;
-use crate::tensor::{rows_tensor, tensor2};
+use crate::tensor::rows_tensor;
 use burn::prelude::*;
 use yokai_engine::{Action, Config};
 
@@ -20,12 +21,19 @@ use yokai_engine::{Action, Config};
 pub(super) struct RowGroup {
     /// `[k, w]`.
     pub logits: Tensor<2>,
-    /// `[k, w]`, 1 where legal.
-    pub mask: Tensor<2>,
-    /// `[k, w]`, 1 at the chosen action.
-    pub one_hot: Tensor<2>,
+    /// `k × w`, 1 where legal.
+    pub mask: Vec<f32>,
+    /// Each row's chosen column.
+    pub chosen: Vec<usize>,
     /// END's column.
     pub end: usize,
+}
+
+impl RowGroup {
+    /// Per row: log π(chosen), the entropy and log π(END) ([`choice_terms`]).
+    pub fn terms(&self) -> [Tensor<1>; 3] {
+        choice_terms(self.logits.clone(), &self.mask, &self.chosen, self.end)
+    }
 }
 
 /// A shard's choosing rows as groups (none empty).
@@ -59,8 +67,8 @@ impl RowGroups {
             ActionLogits::Every(logits) => {
                 let group = RowGroup {
                     logits,
-                    mask: tensor2(masks.to_vec(), [n, na], d),
-                    one_hot: one_hots(actions.iter().copied(), na, d),
+                    mask: masks.to_vec(),
+                    chosen: actions.to_vec(),
                     end,
                 };
                 return RowGroups {
@@ -101,12 +109,8 @@ impl RowGroups {
             }
             RowGroup {
                 logits,
-                mask: tensor2(masks, [rows.len(), columns.len()], d),
-                one_hot: one_hots(
-                    rows.iter().map(|&k| column_of[actions[k]]),
-                    columns.len(),
-                    d,
-                ),
+                mask: masks,
+                chosen: rows.iter().map(|&k| column_of[actions[k]]).collect(),
                 end: column_of[end],
             }
         };
@@ -154,21 +158,11 @@ impl RowGroups {
     }
 }
 
-/// One-hot rows `[k, width]` with a 1 at each of `columns`.
-fn one_hots(columns: impl ExactSizeIterator<Item = usize>, width: usize, d: &Device) -> Tensor<2> {
-    let k = columns.len();
-    let mut v = vec![0f32; k * width];
-    for (row, c) in columns.enumerate() {
-        v[row * width + c] = 1.0;
-    }
-    tensor2(v, [k, width], d)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::distribution::{chosen_log_prob, entropy, masked_log_softmax};
-    use crate::tensor::{tensor1, to_vec};
+    use crate::tensor::{tensor1, tensor2, to_vec};
     use rand_chacha::rand_core::{Rng, SeedableRng};
     use rand_chacha::ChaCha8Rng;
     use yokai_engine::{Game, Substep};
@@ -202,10 +196,10 @@ mod tests {
     fn group_terms(groups: &RowGroups) -> (Tensor<1>, Tensor<1>, Tensor<1>) {
         let (mut logp, mut h, mut end) = (vec![], vec![], vec![]);
         for g in &groups.groups {
-            let lp = masked_log_softmax(g.logits.clone(), g.mask.clone());
-            logp.push(chosen_log_prob(lp.clone(), g.one_hot.clone()));
-            h.push(entropy(lp.clone(), g.mask.clone()));
-            end.push(lp.narrow(1, g.end, 1).squeeze_dim::<1>(1));
+            let [lp, entropy, end_lp] = g.terms();
+            logp.push(lp);
+            h.push(entropy);
+            end.push(end_lp);
         }
         (
             groups.in_row_order(logp),
@@ -314,12 +308,8 @@ mod tests {
         let groups = RowGroups::new(logits, &moving, &masks, &actions, &game, &d);
         assert_eq!(groups.groups.len(), 1);
         assert!(groups.back.is_none());
-        assert_eq!(to_vec(groups.groups[0].mask.clone()), masks);
-        let one_hot = to_vec(groups.groups[0].one_hot.clone());
-        for (k, &a) in actions.iter().enumerate() {
-            let row = &one_hot[k * na..][..na];
-            assert!(row[a] == 1.0 && row.iter().sum::<f32>() == 1.0, "row {k}");
-        }
+        assert_eq!(groups.groups[0].mask, masks);
+        assert_eq!(groups.groups[0].chosen, actions);
         let per_row = Tensor::<1>::from_data(TensorData::new(vec![3.0f32, 1.0], [2]), &d);
         assert_eq!(to_vec(groups.in_row_order(vec![per_row])), [3.0, 1.0]);
     }

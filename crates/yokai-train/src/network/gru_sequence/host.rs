@@ -12,6 +12,7 @@
 //! h_t = c + z ⊙ (p − c)
 //! ```
 
+use crate::host_kernel::{load, store};
 use gemm::{gemm, Parallelism};
 use wide::f32x8;
 
@@ -80,31 +81,6 @@ fn sigmoid(x: f32x8) -> f32x8 {
     let denominator = one + e;
     x.simd_ge(f32x8::splat(0.0))
         .select(one / denominator, e / denominator)
-}
-
-/// `n` ≤ 8 values of `s` from `at` (the rest 0).
-///
-/// Whole lanes (every unit of a width that is a multiple of 8) take a fixed-length copy the
-/// compiler turns into one vector load; the copy of a variable length `n` is a call to
-/// `memcpy`, which perf measured as 4 % of a `cpu-fast` update's time.
-fn load(s: &[f32], at: usize, n: usize) -> f32x8 {
-    if n == 8 {
-        let lanes: [f32; 8] = s[at..at + 8].try_into().expect("8 lanes");
-        return f32x8::from(lanes);
-    }
-    let mut lanes = [0.0; 8];
-    lanes[..n].copy_from_slice(&s[at..at + n]);
-    f32x8::from(lanes)
-}
-
-/// The first `n` lanes of `v` into `s` from `at`.
-fn store(s: &mut [f32], at: usize, n: usize, v: f32x8) {
-    if n == 8 {
-        let out: &mut [f32; 8] = (&mut s[at..at + 8]).try_into().expect("8 lanes");
-        *out = v.to_array();
-        return;
-    }
-    s[at..at + n].copy_from_slice(&v.to_array()[..n]);
 }
 
 /// `p = h_{t−1}·keep_t` for every row: `h0` at t = 0, else the previous step's output.

@@ -15,6 +15,8 @@
 
 pub mod host;
 
+pub use crate::host_kernel::fused_on;
+use crate::host_kernel::{read, write};
 use burn::backend::autodiff::checkpoint::base::Checkpointer;
 use burn::backend::autodiff::checkpoint::strategy::CheckpointStrategy;
 use burn::backend::autodiff::grads::Gradients;
@@ -23,15 +25,7 @@ use burn::backend::autodiff::Autodiff;
 use burn::backend::tensor::FloatTensor;
 use burn::backend::{backend_extension, Backend, Dispatch, Flex, TensorMetadata};
 use burn::prelude::*;
-use burn::tensor::{try_read_sync, TensorData};
 use host::Dims;
-
-/// Whether [`gru_sequence`] can run on `device`: burn's `flex` CPU backend, with or
-/// without autodiff.
-pub fn fused_on(device: &Device) -> bool {
-    let cpu = crate::device::default_device();
-    *device == cpu || *device == cpu.autodiff()
-}
 
 /// The GRU's states after every step `[B, T, H]` from the input map `gx` `[B, T, 3H]`, the
 /// states before the first step `h0` `[B, H]`, `keep` `[B, T]` (0 clears a row's memory
@@ -102,23 +96,6 @@ fn dims<T: TensorMetadata>(gx: &T) -> Dims {
         t: shape[1],
         h: shape[2] / 3,
     }
-}
-
-/// A tensor's elements as `f32`s (on the CPU backend a copy out of its buffer).
-fn read<B: Backend>(tensor: FloatTensor<B>) -> Vec<f32> {
-    let data = try_read_sync(B::float_into_data(tensor))
-        .expect("the CPU backend reads synchronously")
-        .expect("a tensor of the CPU backend can be read");
-    data.try_into_vec::<f32>()
-        .expect("the GRU's tensors hold f32 elements")
-}
-
-fn write<B: Backend, const D: usize>(
-    values: Vec<f32>,
-    shape: [usize; D],
-    device: &B::Device,
-) -> FloatTensor<B> {
-    B::float_from_data(TensorData::new(values, shape), device)
 }
 
 /// What the backward pass needs of the forward one (see [`host::backward`]).
