@@ -3,9 +3,10 @@
 //! pass.
 //!
 //! Why: built from burn's operations (`distribution::masked_log_softmax`, `entropy`,
-//! `chosen_log_prob`), the three terms are about fifteen passes over `[k, w]` (w = 777 at
-//! the MOVE substep) each way, each an allocation and, forward, an autodiff node: about
-//! 9 % of a `cpu-fast` update's samples in a profile with call stacks (2026-11-28). Here
+//! `chosen_log_prob`), the three terms are about twenty passes over `[k, w]` (w = 777 at
+//! the MOVE substep) each way, each an allocation and, forward, an autodiff node: 7 % of
+//! a `cpu-fast` update's samples in a profile with call stacks (2026-11-28), and a share
+//! of the backward nodes other terms use too (docs/results/choice-terms.md). Here
 //! the forward pass reads a row twice (its best legal logit, then the exponentials and
 //! their sums, eight lanes at a time) and the backward pass once.
 //!
