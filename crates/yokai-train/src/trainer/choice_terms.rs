@@ -47,26 +47,22 @@ const ROWS_PER_TASK: usize = 32;
 /// backend, the burn form elsewhere: the same values to rounding.
 pub fn choice_terms(
     logits: Tensor<2>,
-    mask: &[f32],
-    chosen: &[usize],
+    mask: Vec<f32>,
+    chosen: Vec<usize>,
     end: usize,
 ) -> [Tensor<1>; 3] {
     let [k, w] = logits.dims();
-    let device = logits.device();
     debug_assert_eq!(mask.len(), k * w);
     debug_assert_eq!(chosen.len(), k);
-    let terms = if fused_on(&device) {
-        let picks = chosen
-            .iter()
-            .flat_map(|&a| [a as f32, end as f32])
-            .collect();
+    let terms = if fused_on(&logits.device()) {
         Tensor::from_dispatch(<Dispatch as ChoiceTermsOps>::choice_terms(
             logits.into_dispatch(),
-            tensor2(mask.to_vec(), [k, w], &device).into_dispatch(),
-            tensor2(picks, [k, 2], &device).into_dispatch(),
+            mask,
+            chosen,
+            end,
         ))
     } else {
-        burn_form(logits, mask, chosen, end)
+        burn_form(logits, &mask, &chosen, end)
     };
     let term = |i: usize| terms.clone().narrow(0, i, 1).reshape([k]);
     [term(0), term(1), term(2)]
@@ -93,14 +89,15 @@ fn burn_form(logits: Tensor<2>, mask: &[f32], chosen: &[usize], end: usize) -> T
 /// (the trait's own body), with the backward pass of [`backward`] under autodiff.
 #[backend_extension(Flex, Autodiff)]
 pub trait ChoiceTermsOps: Backend {
-    /// `[3, k]` from logits `[k, w]`, the mask `[k, w]` and `[k, 2]` picks (the chosen
-    /// column, END's column).
+    /// `[3, k]` from logits `[k, w]` and, on the host, the mask (`k × w`), each row's
+    /// chosen column and END's column (see [`choice_terms`]).
     fn choice_terms(
         logits: FloatTensor<Self>,
-        mask: FloatTensor<Self>,
-        picks: FloatTensor<Self>,
+        mask: Vec<f32>,
+        chosen: Vec<usize>,
+        end: usize,
     ) -> FloatTensor<Self> {
-        forward_on::<Self>(logits, mask, picks).0
+        forward_on::<Self>(logits, mask, chosen, end).0
     }
 }
 
@@ -112,7 +109,8 @@ struct Saved {
     w: usize,
     logits: Vec<f32>,
     mask: Vec<f32>,
-    picks: Vec<f32>,
+    chosen: Vec<usize>,
+    end: usize,
     /// eˣ at legal columns, 0 at the others (`k × w`).
     exps: Vec<f32>,
     /// Per row: m, ln s, H.
@@ -140,12 +138,13 @@ impl RowSums {
 
 fn forward_on<B: Backend>(
     logits: FloatTensor<B>,
-    mask: FloatTensor<B>,
-    picks: FloatTensor<B>,
+    mask: Vec<f32>,
+    chosen: Vec<usize>,
+    end: usize,
 ) -> (FloatTensor<B>, Saved) {
     let device = logits.device();
     let w = logits.shape()[1];
-    let (logits, mask, picks) = (read::<B>(logits), read::<B>(mask), read::<B>(picks));
+    let logits = read::<B>(logits);
     let k = logits.len() / w.max(1);
     let mut exps = vec![0f32; k * w];
     let rows: Vec<RowSums> = exps
@@ -157,16 +156,16 @@ fn forward_on<B: Backend>(
     let mut out = vec![0f32; 3 * k];
     for (r, sums) in rows.iter().enumerate() {
         let (l, m) = (&logits[r * w..][..w], &mask[r * w..][..w]);
-        let (a, e) = (picks[2 * r] as usize, picks[2 * r + 1] as usize);
-        out[r] = sums.log_prob(l, m, a);
+        out[r] = sums.log_prob(l, m, chosen[r]);
         out[k + r] = sums.entropy;
-        out[2 * k + r] = sums.log_prob(l, m, e);
+        out[2 * k + r] = sums.log_prob(l, m, end);
     }
     let saved = Saved {
         w,
         logits,
         mask,
-        picks,
+        chosen,
+        end,
         exps,
         rows,
     };
@@ -240,7 +239,7 @@ fn backward(s: &Saved, grad: &[f32]) -> Vec<f32> {
                 let x = load(l, at, n) - best;
                 store(g, at, n, -(p * (c + g_h * x)));
             }
-            let (a, e) = (s.picks[2 * r] as usize, s.picks[2 * r + 1] as usize);
+            let (a, e) = (s.chosen[r], s.end);
             if mask[a] > 0.5 {
                 g[a] += g_a;
             }
@@ -273,15 +272,12 @@ impl<B: Backend> Backward<B, 1> for ChoiceTermsBackward {
 impl<B: Backend + ChoiceTermsOps, C: CheckpointStrategy> ChoiceTermsOps for Autodiff<B, C> {
     fn choice_terms(
         logits: FloatTensor<Self>,
-        mask: FloatTensor<Self>,
-        picks: FloatTensor<Self>,
+        mask: Vec<f32>,
+        chosen: Vec<usize>,
+        end: usize,
     ) -> FloatTensor<Self> {
         let parents = [logits.node()];
-        let (out, saved) = forward_on::<B>(
-            logits.into_primitive(),
-            mask.into_primitive(),
-            picks.into_primitive(),
-        );
+        let (out, saved) = forward_on::<B>(logits.into_primitive(), mask, chosen, end);
         match ChoiceTermsBackward
             .prepare::<C>(parents)
             .compute_bound()
@@ -340,7 +336,7 @@ mod tests {
             let run = |host: bool| {
                 let leaf = tensor2(values.clone(), [k, w], &device).require_grad();
                 let terms = if host {
-                    choice_terms(leaf.clone(), &mask, &chosen, end)
+                    choice_terms(leaf.clone(), mask.clone(), chosen.clone(), end)
                 } else {
                     let t = burn_form(leaf.clone(), &mask, &chosen, end);
                     [0, 1, 2].map(|i| t.clone().narrow(0, i, 1).reshape([k]))

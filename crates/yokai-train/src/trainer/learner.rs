@@ -318,23 +318,11 @@ impl ShardJob<'_> {
             self.game,
             d,
         );
-        let (mut logp, mut row_entropy, mut log_p_end) = (Vec::new(), Vec::new(), Vec::new());
-        for group in groups.groups.iter() {
-            let [chosen, group_entropy, end] = group.terms();
-            logp.push(chosen);
-            row_entropy.push(group_entropy);
-            if self.addons.end.is_some() {
-                log_p_end.push(end);
-            }
-        }
-        let (logp, row_entropy) = (groups.in_row_order(logp), groups.in_row_order(row_entropy));
+        let [logp, row_entropy, log_p_end] = groups.terms();
         let end_bonus = match (&self.addons.end, end) {
-            (Some(unit), Some(end_rows)) => unit.bonus(
-                groups.in_row_order(log_p_end),
-                end_rows,
-                self.totals.rows_with_end,
-                d,
-            ),
+            (Some(unit), Some(end_rows)) => {
+                unit.bonus(log_p_end, end_rows, self.totals.rows_with_end, d)
+            }
             _ => zero(),
         };
         let entropy = match (&self.addons.entropy, entropy_weight) {

@@ -7,7 +7,7 @@
 //! off that substep form a group over the other 48 columns, the rows at it a group over
 //! all of them; the dense head's logits ([`ActionLogits::Every`]) are one group over every
 //! column. The groups' per-row terms are put back in the rows' own order
-//! ([`RowGroups::in_row_order`]), so everything after the softmax reads them as it read
+//! ([`RowGroups::terms`]), so everything after the softmax reads them as it read
 //! the whole softmax's.
 
 use super::choice_terms::choice_terms;
@@ -27,13 +27,6 @@ pub(super) struct RowGroup {
     pub chosen: Vec<usize>,
     /// END's column.
     pub end: usize,
-}
-
-impl RowGroup {
-    /// Per row: log π(chosen), the entropy and log π(END) ([`choice_terms`]).
-    pub fn terms(&self) -> [Tensor<1>; 3] {
-        choice_terms(self.logits.clone(), &self.mask, &self.chosen, self.end)
-    }
 }
 
 /// A shard's choosing rows as groups (none empty).
@@ -143,18 +136,32 @@ impl RowGroups {
         }
     }
 
-    /// Per-row tensors of the groups (one per group, in the order of `groups`) as one
-    /// `[n]` tensor in the choosing rows' own order.
-    pub fn in_row_order(&self, mut per_group: Vec<Tensor<1>>) -> Tensor<1> {
-        let joined = if per_group.len() == 1 {
-            per_group.pop().expect("one group")
-        } else {
-            Tensor::cat(per_group, 0)
-        };
-        match &self.back {
-            None => joined,
-            Some(back) => joined.select(0, back.clone()),
+    /// Per choosing row, in the rows' own order: log π(chosen), the entropy and log π(END),
+    /// from each group's softmax over its columns ([`choice_terms`]).
+    pub fn terms(self) -> [Tensor<1>; 3] {
+        let mut per_group: [Vec<Tensor<1>>; 3] = Default::default();
+        for g in self.groups {
+            let terms = choice_terms(g.logits, g.mask, g.chosen, g.end);
+            for (list, term) in per_group.iter_mut().zip(terms) {
+                list.push(term);
+            }
         }
+        per_group.map(|list| in_row_order(self.back.as_ref(), list))
+    }
+}
+
+/// Per-row tensors of the groups (one per group, in the order of the groups) as one `[n]`
+/// tensor in the choosing rows' own order, `back` giving where each row sits among the
+/// groups' rows (`None`: in order already).
+fn in_row_order(back: Option<&Tensor<1, Int>>, mut per_group: Vec<Tensor<1>>) -> Tensor<1> {
+    let joined = if per_group.len() == 1 {
+        per_group.pop().expect("one group")
+    } else {
+        Tensor::cat(per_group, 0)
+    };
+    match back {
+        None => joined,
+        Some(back) => joined.select(0, back.clone()),
     }
 }
 
@@ -189,23 +196,6 @@ mod tests {
             g.apply(a).unwrap();
         }
         (masks, actions, moving)
-    }
-
-    /// Per row (in the rows' order): log π(chosen), the entropy and log π(END), from each
-    /// group's masked softmax.
-    fn group_terms(groups: &RowGroups) -> (Tensor<1>, Tensor<1>, Tensor<1>) {
-        let (mut logp, mut h, mut end) = (vec![], vec![], vec![]);
-        for g in &groups.groups {
-            let [lp, entropy, end_lp] = g.terms();
-            logp.push(lp);
-            h.push(entropy);
-            end.push(end_lp);
-        }
-        (
-            groups.in_row_order(logp),
-            groups.in_row_order(h),
-            groups.in_row_order(end),
-        )
     }
 
     /// On rows of random play (9c-2p and 16c-3p) the split groups give every row the
@@ -263,7 +253,7 @@ mod tests {
                 groups.back.is_some(),
                 "the moving rows go last among the groups'"
             );
-            let (g_logp, g_h, g_end) = group_terms(&groups);
+            let [g_logp, g_h, g_end] = groups.terms();
             let g_w = tensor1(weights.clone(), &d);
             let g_loss = (g_logp.clone() * g_w).sum() + g_h.clone().sum() + g_end.clone().sum();
             let split_grad = to_vec(split.grad(&g_loss.backward()).unwrap());
@@ -311,6 +301,9 @@ mod tests {
         assert_eq!(groups.groups[0].mask, masks);
         assert_eq!(groups.groups[0].chosen, actions);
         let per_row = Tensor::<1>::from_data(TensorData::new(vec![3.0f32, 1.0], [2]), &d);
-        assert_eq!(to_vec(groups.in_row_order(vec![per_row])), [3.0, 1.0]);
+        assert_eq!(
+            to_vec(in_row_order(groups.back.as_ref(), vec![per_row])),
+            [3.0, 1.0]
+        );
     }
 }
