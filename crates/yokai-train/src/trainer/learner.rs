@@ -6,7 +6,7 @@
 use super::addons::{AddOns, ShardColumns};
 use super::minibatch::{self, Shard, Totals};
 use super::rollout::Rollout;
-use super::row_groups::RowGroups;
+use super::row_groups::{MaskRows, RowGroups};
 use super::Trainer;
 use crate::network::{shards_on, ActionLogits, ActorCritic, Encoder, Recurrent};
 use crate::tensor::{rows_tensor, tensor1, tensor2};
@@ -114,6 +114,7 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         let (model, device) = (&self.model, &self.device);
         let job = ShardJob {
             totals: &totals,
+            masks: &ro.masks,
             c: &c,
             addons: &self.addons,
             game: &self.game,
@@ -176,10 +177,12 @@ struct ShardOut {
     belief_hits: u64,
 }
 
-/// What every shard of a minibatch shares: the minibatch's totals, the settings, the
-/// add-ons that are on, the game and the device.
+/// What every shard of a minibatch shares: the minibatch's totals, the rollout's legal
+/// masks (which the shards read in place), the settings, the add-ons that are on, the game
+/// and the device.
 struct ShardJob<'a> {
     totals: &'a Totals,
+    masks: &'a [f32],
     c: &'a crate::config::PpoConfig,
     addons: &'a AddOns,
     game: &'a yokai_engine::Config,
@@ -232,7 +235,7 @@ impl ShardJob<'_> {
             let heads = model.action_logits_of_head(row_obs, states.select(0, idx), &moving);
             let rows = ChoosingRows {
                 moving,
-                masks: s.masks,
+                mask_rows: s.mask_rows,
                 actions: s.actions,
                 old_logp: s.old_logp,
                 adv: s.adv,
@@ -313,7 +316,11 @@ impl ShardJob<'_> {
         let groups = RowGroups::new(
             logits,
             &rows.moving,
-            &rows.masks,
+            MaskRows {
+                all: self.masks,
+                rows: &rows.mask_rows,
+                na: self.game.num_actions(),
+            },
             &rows.actions,
             self.game,
             d,
@@ -350,7 +357,8 @@ impl ShardJob<'_> {
 struct ChoosingRows {
     /// The positions of the rows at the MOVE substep (the pointer head's MOVE rows).
     moving: Vec<usize>,
-    masks: Vec<f32>,
+    /// Each row's row in the rollout's masks.
+    mask_rows: Vec<usize>,
     actions: Vec<usize>,
     old_logp: Vec<f32>,
     adv: Vec<f32>,

@@ -30,7 +30,9 @@ pub(super) struct Shard {
     /// no policy gradient: the actor head, the policy loss and the entropy skip them, so
     /// their masks and actions are not even gathered. Indices `j·T + t`.
     pub choosing: Vec<i64>,
-    pub masks: Vec<f32>,
+    /// Each choosing row's row in the rollout (`t·rows + r`), where the learner reads its
+    /// legal mask in place.
+    pub mask_rows: Vec<usize>,
     /// The action each choosing row took (its index in the game's action order).
     pub actions: Vec<usize>,
     pub old_logp: Vec<f32>,
@@ -106,7 +108,6 @@ fn gather_shard(
     (rows, l, hsz): (usize, usize, usize),
 ) -> Shard {
     let t_len = c.rollout_steps;
-    let na = game.num_actions();
     let n = part.len() * t_len;
     let yc = ro.colours.len() / ro.values.len().max(1);
     let mut s = Shard {
@@ -138,7 +139,7 @@ fn gather_shard(
                 continue;
             }
             s.choosing.push((j * t_len + t) as i64);
-            s.masks.extend_from_slice(&ro.masks[i * na..][..na]);
+            s.mask_rows.push(i);
             s.actions.push(ro.actions[i]);
             s.old_logp.push(ro.logps[i]);
             s.adv.push(ro.adv[i]);

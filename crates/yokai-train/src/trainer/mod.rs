@@ -40,6 +40,7 @@ use burn::optim::{AdamConfig, ModuleOptimizer};
 use burn::prelude::*;
 use rand_chacha::rand_core::SeedableRng;
 use rand_chacha::ChaCha8Rng;
+use rollout::Rollout;
 use serde::{Deserialize, Serialize};
 use yokai_engine::{derive_seed, Config, EpisodeRecord, Metrics, Symmetry};
 use yokai_vec::VecEnv;
@@ -122,6 +123,9 @@ pub struct Trainer<E: Encoder, M: Recurrent = GruCell> {
     addons: AddOns,
     /// Off-Belief Learning levels ≥ 2: the level below and the belief trained on it.
     previous: Option<PreviousLevel>,
+    /// The last update's rollout, whose observation and mask buffers the next one
+    /// writes over ([`Rollout::reuse`]).
+    spare: Option<Rollout>,
 }
 
 fn optimizer(config: &TrainConfig) -> ModuleOptimizer {
@@ -187,6 +191,7 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             update: 0,
             actor,
             previous,
+            spare: None,
         })
     }
 
@@ -294,7 +299,7 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         let secs = start.elapsed().as_secs_f64();
         let c = &self.config.ppo;
         let belief = self.previous.as_ref().map(|p| p.belief_stats());
-        Ok(UpdateStats {
+        let stats = UpdateStats {
             update: self.update,
             env_steps: self.env_steps(),
             sps: (c.num_envs * c.rollout_steps) as f64 / secs.max(1e-9),
@@ -321,6 +326,8 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             obl_belief_baseline: belief.map(|b| b.uniform_cross_entropy),
             rollout_seconds,
             learn_seconds: secs - rollout_seconds,
-        })
+        };
+        self.spare = Some(rollout);
+        Ok(stats)
     }
 }
