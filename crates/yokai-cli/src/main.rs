@@ -80,13 +80,15 @@ enum Command {
 }
 
 /// Keep memory that `free` returns in the process (glibc's malloc): training allocates
-/// and frees buffers of megabytes (a rollout's observations and masks, each minibatch's
-/// tensors) every update from several threads. By default glibc hands the top of each
-/// thread's arena back to the kernel once more than 128 kB lies free there, and the next
-/// update faults it in again: 3 `cpu-fast` seeds side by side made 0.6M page faults in 100
-/// updates and spent 5 % of their CPU time in the kernel (docs/results/rollout-buffers.md).
-/// The thresholds below keep up to 1 GiB free per arena and serve blocks up to 32 MiB
-/// (glibc's largest) from the arenas. Other C libraries: nothing to do.
+/// and frees buffers of megabytes (each minibatch's tensors and gradients) every update
+/// from several threads. By default glibc hands the free top of a thread's arena back to
+/// the kernel once it passes the trim threshold (128 kB, raised as large blocks come and
+/// go), and the next update faults it in again. With the rollout's buffers kept from one
+/// update to the next, 3 `cpu-fast` seeds side by side made 0.6–1.0M page faults in 100
+/// updates and spent 5–7 % of their CPU time in the kernel; with the thresholds below,
+/// 25k faults and 1 % (docs/results/rollout-buffers.md). They keep up to 1 GiB free per
+/// arena and serve blocks up to 32 MiB (glibc's largest setting) from the arenas. Other
+/// C libraries: nothing to do.
 fn keep_freed_memory() {
     #[cfg(all(target_os = "linux", target_env = "gnu"))]
     // SAFETY: mallopt only sets allocator parameters; called before any thread starts.

@@ -214,6 +214,15 @@ impl Symmetry {
         let layout = config.action_layout();
         out[..layout.movement].copy_from_slice(&input[..layout.movement]);
         out[layout.reveal..].copy_from_slice(&input[layout.reveal..]);
+        // Off the MOVE substep every MOVE is illegal, and at it most cards' blocks are: a
+        // block of zeros maps to zeros, so only the others are permuted cell by cell (this
+        // runs for every seat at every step of Other-Play training).
+        let moves = layout.movement..layout.reveal;
+        let zero = |block: &[T]| block.iter().all(|&v| v == T::ZERO);
+        if zero(&input[moves.clone()]) {
+            out[moves].fill(T::ZERO);
+            return Ok(());
+        }
         let geo = config.geometry();
         let cells = geo.cells();
         let map: Vec<usize> = (0..cells)
@@ -221,8 +230,13 @@ impl Symmetry {
             .collect();
         for card in 0..config.cards() {
             let base = layout.movement + card * cells;
+            let (from, to) = (&input[base..][..cells], &mut out[base..][..cells]);
+            if zero(from) {
+                to.fill(T::ZERO);
+                continue;
+            }
             for (i, &j) in map.iter().enumerate() {
-                out[base + j] = input[base + i];
+                to[j] = from[i];
             }
         }
         Ok(())

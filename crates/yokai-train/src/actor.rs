@@ -210,15 +210,18 @@ impl Actor {
         for (r, (sym, _)) in self.row_sym.iter().enumerate() {
             let o_in = &src_obs[r * l..][..l];
             let o_out = &mut obs[r * l..][..l];
-            for (m, &b) in mask_f.iter_mut().zip(&src_masks[r * na..][..na]) {
-                *m = b as f32;
-            }
-            let m_out = &mut masks[r * na..][..na];
+            let (m_in, m_out) = (&src_masks[r * na..][..na], &mut masks[r * na..][..na]);
+            let as_float = |out: &mut [f32]| {
+                for (m, &b) in out.iter_mut().zip(m_in) {
+                    *m = b as f32;
+                }
+            };
             if sym.is_identity() {
                 o_out.copy_from_slice(o_in);
-                m_out.copy_from_slice(&mask_f);
+                as_float(m_out);
                 continue;
             }
+            as_float(&mut mask_f);
             match self.encoding {
                 Encoding::Image(part, layout) => {
                     sym.apply_image_in(&self.game, part, layout, o_in, o_out)

@@ -33,7 +33,7 @@ pub(super) struct RowGroup {
 /// The choosing rows' legal masks where they already lie: row `k`'s mask is
 /// `all[rows[k]·N_a..][..N_a]`. The learner reads the rollout's buffer in place: copying
 /// each choosing row's 777 floats into the minibatch, only for the groups to copy the
-/// columns they need again, was 2 % of a `cpu-fast` update.
+/// columns they need again, was 2 % of a `cpu-fast` update's CPU samples.
 #[derive(Clone, Copy)]
 pub(super) struct MaskRows<'a> {
     /// Masks `[· × N_a]`, 1 where legal.

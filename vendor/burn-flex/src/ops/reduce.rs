@@ -742,13 +742,13 @@ pub fn argmax(tensor: FlexTensor, dim: usize) -> FlexTensor {
     match tensor.dtype() {
         DType::F32 => {
             extremum_dim_with_indices::<f32, _>(&tensor, dim, |a, b| {
-                !b.is_nan() && (a.is_nan() || a > b)
+                !b.is_nan() & (a.is_nan() | (a > b))
             })
             .1
         }
         DType::F64 => {
             extremum_dim_with_indices::<f64, _>(&tensor, dim, |a, b| {
-                !b.is_nan() && (a.is_nan() || a > b)
+                !b.is_nan() & (a.is_nan() | (a > b))
             })
             .1
         }
@@ -756,7 +756,7 @@ pub fn argmax(tensor: FlexTensor, dim: usize) -> FlexTensor {
             extremum_dim_with_indices_half::<f16, _>(
                 &tensor,
                 dim,
-                |a, b| !b.is_nan() && (a.is_nan() || a > b),
+                |a, b| !b.is_nan() & (a.is_nan() | (a > b)),
                 f16::to_f32,
                 f16::from_f32,
             )
@@ -766,7 +766,7 @@ pub fn argmax(tensor: FlexTensor, dim: usize) -> FlexTensor {
             extremum_dim_with_indices_half::<bf16, _>(
                 &tensor,
                 dim,
-                |a, b| !b.is_nan() && (a.is_nan() || a > b),
+                |a, b| !b.is_nan() & (a.is_nan() | (a > b)),
                 bf16::to_f32,
                 bf16::from_f32,
             )
@@ -802,13 +802,13 @@ pub fn argmin(tensor: FlexTensor, dim: usize) -> FlexTensor {
     match tensor.dtype() {
         DType::F32 => {
             extremum_dim_with_indices::<f32, _>(&tensor, dim, |a, b| {
-                !b.is_nan() && (a.is_nan() || a < b)
+                !b.is_nan() & (a.is_nan() | (a < b))
             })
             .1
         }
         DType::F64 => {
             extremum_dim_with_indices::<f64, _>(&tensor, dim, |a, b| {
-                !b.is_nan() && (a.is_nan() || a < b)
+                !b.is_nan() & (a.is_nan() | (a < b))
             })
             .1
         }
@@ -816,7 +816,7 @@ pub fn argmin(tensor: FlexTensor, dim: usize) -> FlexTensor {
             extremum_dim_with_indices_half::<f16, _>(
                 &tensor,
                 dim,
-                |a, b| !b.is_nan() && (a.is_nan() || a < b),
+                |a, b| !b.is_nan() & (a.is_nan() | (a < b)),
                 f16::to_f32,
                 f16::from_f32,
             )
@@ -826,7 +826,7 @@ pub fn argmin(tensor: FlexTensor, dim: usize) -> FlexTensor {
             extremum_dim_with_indices_half::<bf16, _>(
                 &tensor,
                 dim,
-                |a, b| !b.is_nan() && (a.is_nan() || a < b),
+                |a, b| !b.is_nan() & (a.is_nan() | (a < b)),
                 bf16::to_f32,
                 bf16::from_f32,
             )
@@ -1616,22 +1616,22 @@ pub fn max_dim(tensor: FlexTensor, dim: usize) -> FlexTensor {
     }
     match tensor.dtype() {
         DType::F32 => {
-            extremum_dim::<f32, _>(&tensor, dim, |a, b| !b.is_nan() && (a.is_nan() || a > b))
+            extremum_dim::<f32, _>(&tensor, dim, |a, b| !b.is_nan() & (a.is_nan() | (a > b)))
         }
         DType::F64 => {
-            extremum_dim::<f64, _>(&tensor, dim, |a, b| !b.is_nan() && (a.is_nan() || a > b))
+            extremum_dim::<f64, _>(&tensor, dim, |a, b| !b.is_nan() & (a.is_nan() | (a > b)))
         }
         DType::F16 => extremum_dim_half::<f16, _>(
             &tensor,
             dim,
-            |a, b| !b.is_nan() && (a.is_nan() || a > b),
+            |a, b| !b.is_nan() & (a.is_nan() | (a > b)),
             f16::to_f32,
             f16::from_f32,
         ),
         DType::BF16 => extremum_dim_half::<bf16, _>(
             &tensor,
             dim,
-            |a, b| !b.is_nan() && (a.is_nan() || a > b),
+            |a, b| !b.is_nan() & (a.is_nan() | (a > b)),
             bf16::to_f32,
             bf16::from_f32,
         ),
@@ -1662,22 +1662,22 @@ pub fn min_dim(tensor: FlexTensor, dim: usize) -> FlexTensor {
     }
     match tensor.dtype() {
         DType::F32 => {
-            extremum_dim::<f32, _>(&tensor, dim, |a, b| !b.is_nan() && (a.is_nan() || a < b))
+            extremum_dim::<f32, _>(&tensor, dim, |a, b| !b.is_nan() & (a.is_nan() | (a < b)))
         }
         DType::F64 => {
-            extremum_dim::<f64, _>(&tensor, dim, |a, b| !b.is_nan() && (a.is_nan() || a < b))
+            extremum_dim::<f64, _>(&tensor, dim, |a, b| !b.is_nan() & (a.is_nan() | (a < b)))
         }
         DType::F16 => extremum_dim_half::<f16, _>(
             &tensor,
             dim,
-            |a, b| !b.is_nan() && (a.is_nan() || a < b),
+            |a, b| !b.is_nan() & (a.is_nan() | (a < b)),
             f16::to_f32,
             f16::from_f32,
         ),
         DType::BF16 => extremum_dim_half::<bf16, _>(
             &tensor,
             dim,
-            |a, b| !b.is_nan() && (a.is_nan() || a < b),
+            |a, b| !b.is_nan() & (a.is_nan() | (a < b)),
             bf16::to_f32,
             bf16::from_f32,
         ),
@@ -1710,22 +1710,22 @@ pub fn max_dim_with_indices(tensor: FlexTensor, dim: usize) -> (FlexTensor, Flex
     }
     match tensor.dtype() {
         DType::F32 => extremum_dim_with_indices::<f32, _>(&tensor, dim, |a, b| {
-            !b.is_nan() && (a.is_nan() || a > b)
+            !b.is_nan() & (a.is_nan() | (a > b))
         }),
         DType::F64 => extremum_dim_with_indices::<f64, _>(&tensor, dim, |a, b| {
-            !b.is_nan() && (a.is_nan() || a > b)
+            !b.is_nan() & (a.is_nan() | (a > b))
         }),
         DType::F16 => extremum_dim_with_indices_half::<f16, _>(
             &tensor,
             dim,
-            |a, b| !b.is_nan() && (a.is_nan() || a > b),
+            |a, b| !b.is_nan() & (a.is_nan() | (a > b)),
             f16::to_f32,
             f16::from_f32,
         ),
         DType::BF16 => extremum_dim_with_indices_half::<bf16, _>(
             &tensor,
             dim,
-            |a, b| !b.is_nan() && (a.is_nan() || a > b),
+            |a, b| !b.is_nan() & (a.is_nan() | (a > b)),
             bf16::to_f32,
             bf16::from_f32,
         ),
@@ -1761,22 +1761,22 @@ pub fn min_dim_with_indices(tensor: FlexTensor, dim: usize) -> (FlexTensor, Flex
     }
     match tensor.dtype() {
         DType::F32 => extremum_dim_with_indices::<f32, _>(&tensor, dim, |a, b| {
-            !b.is_nan() && (a.is_nan() || a < b)
+            !b.is_nan() & (a.is_nan() | (a < b))
         }),
         DType::F64 => extremum_dim_with_indices::<f64, _>(&tensor, dim, |a, b| {
-            !b.is_nan() && (a.is_nan() || a < b)
+            !b.is_nan() & (a.is_nan() | (a < b))
         }),
         DType::F16 => extremum_dim_with_indices_half::<f16, _>(
             &tensor,
             dim,
-            |a, b| !b.is_nan() && (a.is_nan() || a < b),
+            |a, b| !b.is_nan() & (a.is_nan() | (a < b)),
             f16::to_f32,
             f16::from_f32,
         ),
         DType::BF16 => extremum_dim_with_indices_half::<bf16, _>(
             &tensor,
             dim,
-            |a, b| !b.is_nan() && (a.is_nan() || a < b),
+            |a, b| !b.is_nan() & (a.is_nan() | (a < b)),
             bf16::to_f32,
             bf16::from_f32,
         ),
@@ -2143,24 +2143,24 @@ fn extremum_block<E, F>(
     let block = &data[o * dim_size * inner_size..][..dim_size * inner_size];
     best.copy_from_slice(&block[..inner_size]);
     let slices = block.chunks_exact(inner_size).enumerate().skip(1);
+    // Every element is stored, the old or the new value (patch 5): a store only where the
+    // candidate wins kept the loops scalar; selects let them run eight lanes at a time.
     match at {
         Some(at) => {
             at.fill(0);
             for (d, slice) in slices {
+                let d = d as isize;
                 for ((b, i), &v) in best.iter_mut().zip(at.iter_mut()).zip(slice) {
-                    if is_better(v, *b) {
-                        *b = v;
-                        *i = d as isize;
-                    }
+                    let better = is_better(v, *b);
+                    *b = if better { v } else { *b };
+                    *i = if better { d } else { *i };
                 }
             }
         }
         None => {
             for (_, slice) in slices {
                 for (b, &v) in best.iter_mut().zip(slice) {
-                    if is_better(v, *b) {
-                        *b = v;
-                    }
+                    *b = if is_better(v, *b) { v } else { *b };
                 }
             }
         }
