@@ -1,5 +1,6 @@
 //! `yokai`: the command-line front end of the Yōkai Learning Environment.
 
+mod average;
 mod bench;
 mod compare;
 mod eval;
@@ -57,6 +58,10 @@ enum Command {
     /// Write a trained network's weights as a SafeTensors file (PyTorch, NumPy, JAX), with
     /// its training config and game as metadata.
     Export(export::Args),
+    /// Average the weights of several policy files of one network into one policy: a run's
+    /// snapshots over its last stretch (`--last 0.2`, runs trained with
+    /// `run.snapshot_every`), or files named one by one.
+    Average(average::Args),
     /// Put several evaluations side by side in the paper's table (e.g. IPPO vs HE vs OP),
     /// with the paper's numbers as reference rows where the game matches.
     Compare(compare::Args),
@@ -127,6 +132,7 @@ fn main() -> ExitCode {
         Command::Play(args) => play::run(args),
         Command::Compare(args) => compare::run(args),
         Command::Export(args) => export::run(args),
+        Command::Average(args) => average::run(args),
         Command::Replay(args) => replay::run(args),
         Command::Probe(args) => probe::run(args),
         Command::ProbeEnd(args) => probe_end::run(args),

@@ -11,7 +11,8 @@
 //! - [`backend`] (devices by name), then [`error`] (every error a person reads);
 //! - [`artifact`]: files on disk (container, header, run-directory names, SafeTensors);
 //! - [`network`]: the actor-critics;
-//! - [`policy`]: trained networks seated as players, [`pretrained`]: the agents built in,
+//! - [`policy`]: trained networks seated as players, [`average`]: their weights averaged,
+//!   [`pretrained`]: the agents built in,
 //!   and [`source`]: a policy by name (a bot, a pretrained agent or a trained file) and
 //!   its END rule, as every front end reads one;
 //! - algorithms: [`actor`] (the batched games as the seats see and play them), [`obl`]
@@ -30,6 +31,7 @@ pub mod backend;
 pub mod error;
 
 pub mod artifact;
+pub mod average;
 pub mod network;
 pub mod policy;
 pub mod pretrained;

@@ -10,10 +10,13 @@
 //!                      a new file on each resume
 //! RUN/checkpoint.ykc   network, optimiser and loop state, replaced atomically
 //! RUN/policy.ykp       the final policy, loadable by `yokai eval` and Python
+//! RUN/snapshots/       with `run.snapshot_every`, the policy every that many updates
 //! RUN/replays/         at every checkpoint, the last finished training game of env 0
 //! ```
 
-use crate::artifact::names::{BELIEF_METRICS, CHECKPOINT, METRICS, POLICY};
+use crate::artifact::names::{
+    snapshot_name, BELIEF_METRICS, CHECKPOINT, METRICS, POLICY, SNAPSHOTS,
+};
 use crate::artifact::read_header;
 use crate::artifact::tensorboard::{scalars_of, EventWriter};
 use crate::backend::Backend;
@@ -117,9 +120,10 @@ fn run<E: Encoder, M: Recurrent>(
         .map_err(|e| io(&metrics_path, e))?;
     let resumed_at = (trainer.update_count() > 0).then_some(steps_before);
     let mut events = EventWriter::create(dir, resumed_at).map_err(|e| io(dir, e))?;
-    let (log_every, ckpt_every) = (
+    let (log_every, ckpt_every, snapshot_every) = (
         trainer.config().run.log_every,
         trainer.config().run.checkpoint_every,
+        trainer.config().run.snapshot_every,
     );
     let mut last = None;
     let mut done_here = 0;
@@ -140,6 +144,13 @@ fn run<E: Encoder, M: Recurrent>(
         if u % ckpt_every == 0 || u == total {
             trainer.checkpoint().write_atomic(&checkpoint)?;
             save_training_game(&trainer, dir, u)?;
+        }
+        if snapshot_every > 0 && u % snapshot_every == 0 {
+            let snapshots = dir.join(SNAPSHOTS);
+            std::fs::create_dir_all(&snapshots).map_err(|e| io(&snapshots, e))?;
+            trainer
+                .policy()
+                .write_atomic(&snapshots.join(snapshot_name(u)))?;
         }
         last = Some(stats);
     }

@@ -25,6 +25,10 @@ pub struct FileHeader {
     pub seed: u64,
     pub update: u64,
     pub env_steps: u64,
+    /// For a policy made by averaging weights (`yokai average`): the update of every file
+    /// averaged, in order. Empty (and left out of the file) for a trained policy.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub averaged: Vec<u64>,
 }
 
 pub(crate) fn read_header(file: &Container, path: &Path) -> Result<FileHeader, TrainError> {
@@ -157,6 +161,7 @@ impl PolicyFile {
             seed: number(META_SEED)?,
             update: number(META_UPDATE)?,
             env_steps: number(META_ENV_STEPS)?,
+            averaged: Vec::new(),
         };
         PolicyFile::from_header(header, Weights::Safetensors, path)
     }

@@ -10,6 +10,14 @@ pub const POLICY: &str = "policy.ykp";
 pub const SAFETENSORS_POLICY: &str = "policy.safetensors";
 pub const METRICS: &str = "metrics.jsonl";
 pub const BELIEF_METRICS: &str = "belief.jsonl";
+/// The folder of a run's policy snapshots (`run.snapshot_every`).
+pub const SNAPSHOTS: &str = "snapshots";
+
+/// The file of the snapshot taken after update `update`: zero-padded so that the names
+/// sort in the order of the run.
+pub fn snapshot_name(update: u64) -> String {
+    format!("policy-{update:06}.ykp")
+}
 
 /// Seed `seed`'s run in `path` when `path` is a directory of `seed-N` runs, else `path`
 /// itself: how `--init-from` and `obl.previous` name one run per seed.

@@ -7,6 +7,12 @@ use serde::{Deserialize, Serialize};
 pub struct RunConfig {
     /// Write a checkpoint every this many updates (and always after the last one).
     pub checkpoint_every: u64,
+    /// Also keep the policy every this many updates, as `RUN/snapshots/policy-UUUUUU.ykp`
+    /// (U the update): the material for averaging the weights of a run's last stretch
+    /// (`yokai average`) or for following a run's play over time. 0 (the default, and left
+    /// out of saved configs) keeps none; snapshots never change what the run learns.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub snapshot_every: u64,
     /// Append a metrics line every this many updates.
     pub log_every: u64,
     /// Worker threads for the environments and the CPU backend; 0 = one per core.
@@ -24,9 +30,14 @@ impl Default for RunConfig {
     fn default() -> Self {
         RunConfig {
             checkpoint_every: 50,
+            snapshot_every: 0,
             log_every: 1,
             threads: 0,
             init_from: None,
         }
     }
+}
+
+fn is_zero(x: &u64) -> bool {
+    *x == 0
 }

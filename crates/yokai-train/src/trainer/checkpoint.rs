@@ -44,6 +44,7 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             seed: self.seed,
             update: self.update,
             env_steps: self.env_steps(),
+            averaged: Vec::new(),
         }
     }
 
