@@ -34,21 +34,6 @@ fn train(out: &Path, extra: &[&str]) {
     yokai_ok(&args);
 }
 
-/// A metrics log without its timing fields, which differ from run to run.
-fn metrics_without_timing(run: &Path) -> Vec<serde_json::Value> {
-    std::fs::read_to_string(run.join("metrics.jsonl"))
-        .unwrap()
-        .lines()
-        .map(|l| {
-            let mut v: serde_json::Value = serde_json::from_str(l).unwrap();
-            for key in ["sps", "rollout_seconds", "learn_seconds"] {
-                v.as_object_mut().unwrap().remove(key);
-            }
-            v
-        })
-        .collect()
-}
-
 /// The JSON header of a policy file (the container's layout: magic, version, header length,
 /// header).
 fn header(path: &Path) -> serde_json::Value {
@@ -66,8 +51,8 @@ fn snapshots_leave_training_unchanged_and_the_last_stretch_averages() {
     train(&snapped, &["run.snapshot_every=1"]);
     for seed in ["seed-0", "seed-1"] {
         assert_eq!(
-            metrics_without_timing(&plain.join(seed)),
-            metrics_without_timing(&snapped.join(seed)),
+            common::metrics_without_timings(&plain.join(seed)),
+            common::metrics_without_timings(&snapped.join(seed)),
             "{seed}: snapshots changed what the run learned"
         );
         assert!(!plain.join(seed).join("snapshots").exists());

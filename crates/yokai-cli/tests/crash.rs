@@ -34,22 +34,6 @@ fn train(config: &Path, out: &Path, resume: bool) -> Command {
     c
 }
 
-/// The metrics lines of a run without their timing fields, which differ between runs.
-fn metrics_without_timings(run: &Path) -> Vec<serde_json::Value> {
-    std::fs::read_to_string(run.join("metrics.jsonl"))
-        .unwrap()
-        .lines()
-        .map(|line| {
-            let mut v: serde_json::Value = serde_json::from_str(line).unwrap();
-            let m = v.as_object_mut().unwrap();
-            for timing in ["sps", "rollout_seconds", "learn_seconds"] {
-                m.remove(timing);
-            }
-            v
-        })
-        .collect()
-}
-
 #[test]
 fn a_run_killed_twenty_times_and_resumed_equals_an_uninterrupted_run() {
     let tmp = tempfile::Builder::new()
@@ -122,8 +106,8 @@ fn a_run_killed_twenty_times_and_resumed_equals_an_uninterrupted_run() {
     assert_eq!(b.header().update, UPDATES);
     assert_eq!(a.parameters(), b.parameters(), "after {kills} kills");
     assert_eq!(
-        metrics_without_timings(&whole.join("seed-0")),
-        metrics_without_timings(&run),
+        common::metrics_without_timings(&whole.join("seed-0")),
+        common::metrics_without_timings(&run),
         "one metrics line per update, the same values"
     );
     // The report still works on the resumed run.
