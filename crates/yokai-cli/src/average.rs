@@ -50,16 +50,13 @@ fn write_average(files: &[PathBuf], out: &Path) -> anyhow::Result<()> {
     averaged
         .write_atomic(out)
         .with_context(|| format!("writing {}", out.display()))?;
-    let first = files.first().map(|f| f.display().to_string());
+    let shown = |f: Option<&PathBuf>| f.map(|f| f.display().to_string()).unwrap_or_default();
     eprintln!(
         "wrote {}: the mean of {} policies ({} … {})",
         out.display(),
         files.len(),
-        first.unwrap_or_default(),
-        files
-            .last()
-            .map(|f| f.display().to_string())
-            .unwrap_or_default(),
+        shown(files.first()),
+        shown(files.last()),
     );
     Ok(())
 }

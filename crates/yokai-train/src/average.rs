@@ -12,10 +12,8 @@ use crate::artifact::{Container, FileHeader, PolicyFile};
 use crate::device::default_device;
 use crate::error::TrainError;
 use crate::network::{for_network, ActorCritic, Encoder, NetworkJob, Recurrent};
-use crate::tensor::to_vec;
-use burn::module::{Module, ModuleMapper, ModuleVisitor, Param};
-use burn::prelude::*;
-use burn::tensor::TensorData;
+use crate::tensor::{parameters, with_parameters};
+use burn::module::Module;
 use std::path::{Path, PathBuf};
 
 /// The policy files of `run` (one seed's run directory) that cover the last `fraction` of
@@ -123,7 +121,8 @@ pub fn average_policies(files: &[PathBuf]) -> Result<Container, TrainError> {
 }
 
 /// Averaging as a [`NetworkJob`]: load every file into the network type its config names,
-/// sum each parameter in f64, and write the means into the last network's parameters.
+/// sum its parameters ([`parameters`], in module order) in f64, and write the means into
+/// the last network ([`with_parameters`]).
 struct Average<'a> {
     files: &'a [PolicyFile],
 }
@@ -132,72 +131,26 @@ impl NetworkJob for Average<'_> {
     type Output = Result<Vec<u8>, TrainError>;
     fn run<E: Encoder + 'static, M: Recurrent + 'static>(self) -> Self::Output {
         let device = default_device();
-        let mut sums: Vec<Vec<f64>> = Vec::new();
-        let mut model = None;
+        let mut sums: Vec<f64> = Vec::new();
+        let mut last = None;
         for file in self.files {
             let net = ActorCritic::<E, M>::new(&file.config, &file.game, 0, &device);
             let net = file.load_into(net)?;
-            let mut add = AddInto {
-                sums: &mut sums,
-                at: 0,
-            };
-            net.visit(&mut add);
-            model = Some(net);
+            let values = parameters(&net);
+            sums.resize(values.len(), 0.0);
+            for (s, v) in sums.iter_mut().zip(values) {
+                *s += v as f64;
+            }
+            last = Some(net);
         }
         let n = self.files.len() as f64;
-        let mut means = Means {
-            sums: &sums,
-            n,
-            at: 0,
-            device: &device,
-        };
-        let model = model.expect("at least one file").map(&mut means);
+        let means: Vec<f32> = sums.iter().map(|s| (s / n) as f32).collect();
+        let model = with_parameters(last.expect("at least one file"), &means, &device);
         Ok(model
             .into_record()
             .into_bytes()
             .expect("an in-memory record always serialises")
             .to_vec())
-    }
-}
-
-/// Adds each float parameter, in visiting order, into its running sum.
-struct AddInto<'a> {
-    sums: &'a mut Vec<Vec<f64>>,
-    at: usize,
-}
-
-impl ModuleVisitor for AddInto<'_> {
-    fn visit_float<const D: usize>(&mut self, param: &Param<Tensor<D>>) {
-        let values = to_vec(param.val());
-        if self.sums.len() == self.at {
-            self.sums.push(vec![0.0; values.len()]);
-        }
-        for (s, v) in self.sums[self.at].iter_mut().zip(values) {
-            *s += v as f64;
-        }
-        self.at += 1;
-    }
-}
-
-/// Replaces each float parameter, in visiting order, by its sum over `n` files divided by `n`.
-struct Means<'a> {
-    sums: &'a [Vec<f64>],
-    n: f64,
-    at: usize,
-    device: &'a Device,
-}
-
-impl ModuleMapper for Means<'_> {
-    fn map_float<const D: usize>(&mut self, param: Param<Tensor<D>>) -> Param<Tensor<D>> {
-        let mean: Vec<f32> = self.sums[self.at]
-            .iter()
-            .map(|s| (s / self.n) as f32)
-            .collect();
-        self.at += 1;
-        param.map(|t| {
-            let shape = t.dims();
-            Tensor::from_data(TensorData::new(mean, shape), self.device)
-        })
     }
 }
 
@@ -211,13 +164,7 @@ mod tests {
     /// A policy file of a tiny network with `hidden` units, weights drawn from `seed`, its
     /// header saying update `update`, at `path`.
     fn policy_file(path: &Path, hidden: usize, seed: u64, update: u64) {
-        let mut c = TrainConfig::from_toml_str(
-            "[network]\npreset = \"compact\"\n[ppo]\nnum_envs = 4\nrollout_steps = 4\n\
-             minibatches = 1\n[run]\nthreads = 1\n",
-            "test",
-        )
-        .unwrap();
-        c.network.hidden = hidden;
+        let c = TrainConfig::tiny_for_tests(hidden);
         let mut file = Trainer::<MlpEncoder>::new(c, seed).unwrap().policy();
         let mut header: FileHeader = serde_json::from_str(&file.header).unwrap();
         header.update = update;

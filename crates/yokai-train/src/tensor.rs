@@ -1,7 +1,7 @@
 //! Moving numbers between plain vectors and burn tensors: the few conversions every layer
 //! of the crate needs (networks, the learner, beliefs, policies), in one leaf module.
 
-use burn::module::{Module, ModuleVisitor, Param};
+use burn::module::{Module, ModuleMapper, ModuleVisitor, Param};
 use burn::nn::Linear;
 use burn::prelude::*;
 use burn::tensor::TensorData;
@@ -41,6 +41,40 @@ pub fn parameters<M: Module>(model: &M) -> Vec<f32> {
     c.0
 }
 
+/// `model` with its float parameters replaced by `values`, read in the order
+/// [`parameters`] writes them (its inverse): for weights computed outside the module, as
+/// averaged ones. `values` must hold exactly as many numbers as the module has.
+pub fn with_parameters<M: Module>(model: M, values: &[f32], device: &Device) -> M {
+    struct Fill<'a> {
+        values: &'a [f32],
+        at: usize,
+        device: &'a Device,
+    }
+    impl ModuleMapper for Fill<'_> {
+        fn map_float<const D: usize>(&mut self, param: Param<Tensor<D>>) -> Param<Tensor<D>> {
+            param.map(|t| {
+                let shape = t.dims();
+                let n = shape.iter().product::<usize>();
+                let own = self.values[self.at..self.at + n].to_vec();
+                self.at += n;
+                Tensor::from_data(TensorData::new(own, shape), self.device)
+            })
+        }
+    }
+    let mut fill = Fill {
+        values,
+        at: 0,
+        device,
+    };
+    let model = model.map(&mut fill);
+    assert_eq!(
+        fill.at,
+        values.len(),
+        "as many values as the module has parameters"
+    );
+    model
+}
+
 /// A linear layer applied to every item of a batch of sets (nodes, cards, time steps):
 /// `[..., d_in]` → `[..., d_out]` as one `[rows, d_in] @ [d_in, d_out]` product.
 ///
@@ -73,6 +107,20 @@ impl FoldedLinear for Linear {
 mod tests {
     use super::*;
     use crate::init::Init;
+
+    /// `with_parameters` reads values in the order `parameters` writes them: a module
+    /// filled with 0, 1, 2, … gives them back, and a weight and a bias get their own runs.
+    #[test]
+    fn with_parameters_inverts_parameters() {
+        let device = crate::device::default_device();
+        let layer = burn::nn::LinearConfig::new(3, 2).init(&device);
+        let n = parameters(&layer).len();
+        assert_eq!(n, 3 * 2 + 2);
+        let values: Vec<f32> = (0..n).map(|i| i as f32).collect();
+        let filled = with_parameters(layer, &values, &device);
+        assert_eq!(parameters(&filled), values);
+        assert_eq!(to_vec(filled.weight.val()), values[..6]);
+    }
 
     /// A folded 3-D linear layer gives `Linear::forward`'s values, and the same gradients
     /// with respect to its input, weight and bias (within the sums' rounding).

@@ -216,6 +216,22 @@ pub(super) fn bad(field: &'static str, message: &str) -> Checked {
     Err((field, message.to_string()))
 }
 
+impl TrainConfig {
+    /// For unit tests that need a trainer or a policy file, not learning: the compact
+    /// network at width `hidden`, 4 games × 4 steps per update, one minibatch, one thread.
+    #[cfg(test)]
+    pub(crate) fn tiny_for_tests(hidden: usize) -> TrainConfig {
+        let mut c = TrainConfig::from_toml_str(
+            "[network]\npreset = \"compact\"\n[ppo]\nnum_envs = 4\nrollout_steps = 4\n\
+             minibatches = 1\n[run]\nthreads = 1\n",
+            "test",
+        )
+        .expect("a valid config");
+        c.network.hidden = hidden;
+        c
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -343,13 +343,7 @@ mod tests {
         use crate::{MlpEncoder, TrainConfig, Trainer};
         let tmp = tempfile::tempdir().unwrap();
         let policy = |hidden: usize| {
-            let mut c = TrainConfig::from_toml_str(
-                "[network]\npreset = \"compact\"\n[ppo]\nnum_envs = 4\nrollout_steps = 4\n\
-                 minibatches = 1\n[run]\nthreads = 1\n",
-                "test",
-            )
-            .unwrap();
-            c.network.hidden = hidden;
+            let c = TrainConfig::tiny_for_tests(hidden);
             let t = Trainer::<MlpEncoder>::new(c, 1).unwrap();
             let path = tmp.path().join(format!("h{hidden}.ykp"));
             t.policy().write_atomic(&path).unwrap();
