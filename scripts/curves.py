@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Learning curves of groups of runs side by side, as a Markdown table: at each env-step
 point, the mean ± SE over a group's seeds of its training games' R and SEE, each seed's
-value the mean over the updates in the window that ends at the point. Reads the
+value the mean over the updates in the window that ends at the point (with --ee also the
+share of games ENDed early and their length). Reads the
 metrics.jsonl of run directories from `yokai train` and `python -m yokai.torch_train`
 alike. Then each group's speed: per seed the mean env steps/s of its updates after the
 first 10 (start-up), and their sum (the machine's, for seeds run side by side).
@@ -16,12 +17,13 @@ import pathlib
 
 
 def series(run: str):
-    """(env_steps, R, SEE) of every update of `run` whose rollout finished a game."""
+    """(env_steps, R, SEE, EE, LEN) of every update of `run` whose rollout finished a game."""
     out = []
     for line in (pathlib.Path(run) / "metrics.jsonl").read_text().splitlines():
         d = json.loads(line)
         if d.get("games"):
-            out.append((d["env_steps"], d["games"]["reward"], d["games"]["successful_early_end"]))
+            g = d["games"]
+            out.append((d["env_steps"], g["reward"], g["successful_early_end"], g["early_end"], g["length"]))
     return out
 
 
@@ -52,16 +54,18 @@ def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--at", required=True, help="env-step points, comma-separated (1e6 allowed)")
     p.add_argument("--window", type=float, default=2e5, help="env steps averaged before each point")
+    p.add_argument("--ee", action="store_true", help="also the share ENDed early (EE %%) and LEN")
     p.add_argument("groups", nargs="+", help="NAME=RUN[,RUN...]")
     args = p.parse_args()
     points = [float(x) for x in args.at.split(",")]
     groups = [(g.split("=", 1)[0], [series(r) for r in g.split("=", 1)[1].split(",")]) for g in args.groups]
-    head = ["env steps"] + [f"{name} R" for name, _ in groups] + [f"{name} SEE %" for name, _ in groups]
+    columns = [(1, 1.0, "R"), (2, 100.0, "SEE %")] + ([(3, 100.0, "EE %"), (4, 1.0, "LEN")] if args.ee else [])
+    head = ["env steps"] + [f"{name} {label}" for _, _, label in columns for name, _ in groups]
     print("| " + " | ".join(head) + " |")
     print("|" + "---|" * len(head))
     for step in points:
         cells = []
-        for k, scale in ((1, 1.0), (2, 100.0)):
+        for k, scale, _ in columns:
             for _, runs in groups:
                 m, se = mean_se([scale * at(r, step, args.window, k) for r in runs])
                 cells.append(f"{m:.2f} ± {se:.2f}")
