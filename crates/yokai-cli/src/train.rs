@@ -407,14 +407,18 @@ mod tests {
         assert_eq!(cpu, fast);
     }
 
-    /// `cpu-op` says it is `cpu` (levers and budget) with Other-Play's symmetries; nothing
-    /// else may drift.
+    /// `cpu-op` says it is `cpu` (levers) with Other-Play's symmetries, the learning rate
+    /// and the budget measured for it (docs/results/cpu-op-lr-2e-3.md); nothing else may
+    /// drift.
     #[test]
-    fn cpu_op_is_cpu_with_the_symmetries() {
+    fn cpu_op_is_cpu_with_the_symmetries_its_rate_and_budget() {
         let (cpu, mut op) = (preset("cpu"), preset("cpu-op"));
         assert_eq!(op.algorithm.name, "op");
         assert_eq!(op.algorithm.symmetries, yokai_train::SymmetrySet::Both);
+        assert_eq!((op.ppo.lr, op.ppo.total_steps), (2e-3, 48_000_000));
+        assert_eq!((cpu.ppo.lr, cpu.ppo.total_steps), (3e-3, 40_000_000));
         op.algorithm = cpu.algorithm.clone();
+        (op.ppo.lr, op.ppo.total_steps) = (cpu.ppo.lr, cpu.ppo.total_steps);
         assert_eq!(cpu, op);
     }
 
