@@ -422,14 +422,19 @@ mod tests {
         assert_eq!(cpu, op);
     }
 
-    /// `obl-cpu` says it is OBL with `cpu-fast`'s levers, 2M steps per level and four
-    /// decisions per continuation (the learner as partner); nothing else may drift.
+    /// `obl-cpu` says it is OBL with `cpu-fast`'s levers, 2M steps per level, four
+    /// decisions per continuation (the learner as partner) and levels ≥ 2 at a lower rate
+    /// without shaping; nothing else may drift.
     #[test]
     fn obl_cpu_is_cpu_fast_with_obls_targets() {
         let (fast, mut obl) = (preset("cpu-fast"), preset("obl-cpu"));
         assert_eq!((obl.obl.level, obl.obl.decisions), (1, 4));
         assert_eq!(obl.obl.partner, yokai_train::config::OblPartner::Learner);
         assert_eq!(obl.ppo.total_steps, 2_000_000);
+        assert_eq!(
+            (obl.obl.warm_lr, obl.obl.warm_shaping),
+            (Some(1e-3), Some(0.0))
+        );
         obl.algorithm.name = fast.algorithm.name.clone();
         obl.obl = Default::default();
         obl.ppo.total_steps = fast.ppo.total_steps;

@@ -462,6 +462,15 @@ mod tests {
         let e = refused("[ppo]\ncluster_shaping = 1.0\n[obl]\nlevel = 1\n", "x");
         assert!(e.contains("ppo.cluster_shaping"), "{e}");
         assert!(TrainConfig::from_toml_str("[obl]\nlevel = 1\n", "x").is_ok());
+        let e = refused("[obl]\nwarm_lr = 1e-3\n", "x");
+        assert!(
+            e.contains("obl.warm_lr") && e.contains("obl.level = 0"),
+            "{e}"
+        );
+        let e = refused("[obl]\nlevel = 1\nwarm_lr = 0.0\n", "x");
+        assert!(e.contains("obl.warm_lr") && e.contains("positive"), "{e}");
+        let e = refused("[obl]\nlevel = 1\nwarm_shaping = -1.0\n", "x");
+        assert!(e.contains("obl.warm_shaping") && e.contains("≥ 0"), "{e}");
     }
 
     #[test]

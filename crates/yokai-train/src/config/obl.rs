@@ -42,6 +42,20 @@ pub struct OblConfig {
     /// the longer return carries credit further per update, as a GAE λ above 0 does for
     /// IPPO. Needs `partner = "learner"`: in the operator, every future move is π_ℓ's.
     pub decisions: u32,
+    /// Levels ≥ 2 that `yokai train --levels` starts from the level below's weights: the
+    /// learning rate they start at in place of `ppo.lr`. A new level restarts the rate
+    /// (with a fresh Adam) and the shaping reward, and a policy that already plays well is
+    /// jolted by both in its first updates: its critic learnt returns without shaping, so
+    /// the value loss jumps seven- to eightfold and the level's games fall below the level
+    /// it started from (docs/results/obl-levels-5M.md). Absent (the reference's rule): as
+    /// `ppo.lr`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub warm_lr: Option<f64>,
+    /// Levels ≥ 2 that `--levels` starts from the level below's weights: the shaping weight
+    /// in place of `ppo.shaping` (0 turns it off: the policy already observes and hints).
+    /// Absent: as `ppo.shaping`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub warm_shaping: Option<f32>,
 }
 
 impl Default for OblConfig {
@@ -54,6 +68,8 @@ impl Default for OblConfig {
             oracle: false,
             partner: OblPartner::Previous,
             decisions: 1,
+            warm_lr: None,
+            warm_shaping: None,
         }
     }
 }
@@ -112,6 +128,19 @@ impl OblConfig {
                 "above 1 has the learner play on after the seat's next decision, so the \
                  partners must be the learner too: set obl.partner = \"learner\"",
             );
+        }
+        if o.level == 0 && (o.warm_lr.is_some() || o.warm_shaping.is_some()) {
+            return bad(
+                "obl.warm_lr / obl.warm_shaping",
+                "are read for OBL levels ≥ 2 that `--levels` starts from the level below; \
+                 this config trains no OBL level (obl.level = 0)",
+            );
+        }
+        if o.warm_lr.is_some_and(|lr| !(lr > 0.0 && lr.is_finite())) {
+            return bad("obl.warm_lr", "must be a positive number");
+        }
+        if o.warm_shaping.is_some_and(|w| !(w >= 0.0 && w.is_finite())) {
+            return bad("obl.warm_shaping", "must be a number ≥ 0");
         }
         Ok(())
     }

@@ -1,7 +1,10 @@
 //! Training OBL levels one after another, each on the level below: level L ≥ 2 has level
 //! L−1's runs as its previous level (the partner its belief models) and, as in the
 //! reference implementation, as its starting weights. Level 1's previous level is random
-//! play, and it starts where the config says (`run.init_from`).
+//! play, and it starts where the config says (`run.init_from`). A level that starts from
+//! the level below's weights takes `obl.warm_lr` and `obl.warm_shaping`, when given, in
+//! place of `ppo.lr` and `ppo.shaping`, so the already-trained policy is not jolted by a
+//! restarted rate and shaping reward; level 1 keeps the config's.
 
 use crate::config::{TrainConfig, TrainConfigError};
 use std::path::{Path, PathBuf};
@@ -56,6 +59,12 @@ pub fn plan(config: &TrainConfig, levels: &[u32], out: &Path) -> Result<Vec<Leve
                 let below = level_dir(out, level - 1);
                 c.obl.previous = Some(below.clone());
                 c.run.init_from = Some(below);
+                if let Some(lr) = c.obl.warm_lr {
+                    c.ppo.lr = lr;
+                }
+                if let Some(shaping) = c.obl.warm_shaping {
+                    c.ppo.shaping = shaping;
+                }
             }
             c.validate("config")
                 .map_err(|source| LevelsError::Config { level, source })?;
@@ -102,6 +111,32 @@ mod tests {
             ]
         );
         assert_eq!(plan[2].dir, out.join("level-3"));
+    }
+
+    #[test]
+    fn warm_levels_take_the_warm_rate_and_shaping_and_level_1_keeps_its_own() {
+        let c = TrainConfig::from_toml_str(
+            "[ppo]\nlr = 3e-3\nshaping = 1.0\n[obl]\nlevel = 1\nwarm_lr = 1e-3\nwarm_shaping = 0.0\n",
+            "obl",
+        )
+        .unwrap();
+        let plan = plan(&c, &[1, 2, 3], Path::new("runs/obl")).unwrap();
+        let got: Vec<_> = plan
+            .iter()
+            .map(|l| (l.level, l.config.ppo.lr, l.config.ppo.shaping))
+            .collect();
+        assert_eq!(got, [(1, 3e-3, 1.0), (2, 1e-3, 0.0), (3, 1e-3, 0.0)]);
+        // Absent, every level trains at the config's rate and shaping (the reference's rule).
+        let plan = super::plan(&obl(), &[1, 2], Path::new("runs/obl")).unwrap();
+        assert_eq!(plan[0].config.ppo, plan[1].config.ppo);
+        // Only one of the two given: the other stays the config's.
+        let c =
+            TrainConfig::from_toml_str("[obl]\nlevel = 1\nwarm_shaping = 0.0\n", "obl").unwrap();
+        let plan = super::plan(&c, &[2], Path::new("runs/obl")).unwrap();
+        assert_eq!(
+            (plan[0].config.ppo.lr, plan[0].config.ppo.shaping),
+            (c.ppo.lr, 0.0)
+        );
     }
 
     #[test]
