@@ -42,8 +42,9 @@ pub struct OblConfig {
     /// the longer return carries credit further per update, as a GAE λ above 0 does for
     /// IPPO. Needs `partner = "learner"`: in the operator, every future move is π_ℓ's.
     pub decisions: u32,
-    /// Levels ≥ 2 that `yokai train --levels` starts from the level below's weights: the
-    /// learning rate they start at in place of `ppo.lr`. A new level restarts the rate
+    /// Levels ≥ 2 that start from trained weights (`run.init_from`: under `yokai train
+    /// --levels`, the level below's; by hand, whatever `--init-from` names): the learning
+    /// rate they start at in place of `ppo.lr` ([`super::TrainConfig::warm_started`]). A new level restarts the rate
     /// (with a fresh Adam) and the shaping reward, and a policy that already plays well is
     /// jolted by both in its first updates: its critic learnt returns without shaping, so
     /// the value loss jumps seven- to eightfold and the level's games fall below the level
@@ -51,8 +52,8 @@ pub struct OblConfig {
     /// `ppo.lr`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub warm_lr: Option<f64>,
-    /// Levels ≥ 2 that `--levels` starts from the level below's weights: the shaping weight
-    /// in place of `ppo.shaping` (0 turns it off: the policy already observes and hints).
+    /// Levels ≥ 2 that start from trained weights (`run.init_from`): the shaping weight in
+    /// place of `ppo.shaping` (0 turns it off: the policy already observes and hints).
     /// Absent: as `ppo.shaping`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub warm_shaping: Option<f32>,
@@ -86,6 +87,27 @@ pub enum OblPartner {
     /// game share the learning network's runner, `pyhanabi/act_group.py`) and as OBL's
     /// operator reads ("future actions will follow π_ℓ", the paper's §4).
     Learner,
+}
+
+impl super::TrainConfig {
+    /// The config this run trains with: an OBL level ≥ 2 that starts from trained weights
+    /// (`run.init_from`) takes `obl.warm_lr` and `obl.warm_shaping`, when given, in place
+    /// of `ppo.lr` and `ppo.shaping`; any other config is returned as it is. One rule for
+    /// every way a level is started — `--levels` ([`crate::obl::levels::plan`]), a level
+    /// run by hand with `--init-from`, Python — because the trainer applies it when a run
+    /// starts ([`crate::Trainer::new_on`]). Applying it twice changes nothing, so a resumed
+    /// run, whose saved config already holds the warm values, trains on as it started.
+    pub fn warm_started(mut self) -> Self {
+        if self.obl.level >= 2 && self.run.init_from.is_some() {
+            if let Some(lr) = self.obl.warm_lr {
+                self.ppo.lr = lr;
+            }
+            if let Some(shaping) = self.obl.warm_shaping {
+                self.ppo.shaping = shaping;
+            }
+        }
+        self
+    }
 }
 
 impl OblConfig {

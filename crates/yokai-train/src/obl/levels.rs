@@ -3,8 +3,9 @@
 //! reference implementation, as its starting weights. Level 1's previous level is random
 //! play, and it starts where the config says (`run.init_from`). A level that starts from
 //! the level below's weights takes `obl.warm_lr` and `obl.warm_shaping`, when given, in
-//! place of `ppo.lr` and `ppo.shaping`, so the already-trained policy is not jolted by a
-//! restarted rate and shaping reward; level 1 keeps the config's.
+//! place of `ppo.lr` and `ppo.shaping` ([`TrainConfig::warm_started`]), so the
+//! already-trained policy is not jolted by a restarted rate and shaping reward; level 1
+//! keeps the config's.
 
 use crate::config::{TrainConfig, TrainConfigError};
 use std::path::{Path, PathBuf};
@@ -59,13 +60,10 @@ pub fn plan(config: &TrainConfig, levels: &[u32], out: &Path) -> Result<Vec<Leve
                 let below = level_dir(out, level - 1);
                 c.obl.previous = Some(below.clone());
                 c.run.init_from = Some(below);
-                if let Some(lr) = c.obl.warm_lr {
-                    c.ppo.lr = lr;
-                }
-                if let Some(shaping) = c.obl.warm_shaping {
-                    c.ppo.shaping = shaping;
-                }
             }
+            // The trainer applies the same rule when the run starts; applied here too so
+            // that the planned config is the one each level trains with.
+            let c = c.warm_started();
             c.validate("config")
                 .map_err(|source| LevelsError::Config { level, source })?;
             Ok(Level {
@@ -126,6 +124,10 @@ mod tests {
             .map(|l| (l.level, l.config.ppo.lr, l.config.ppo.shaping))
             .collect();
         assert_eq!(got, [(1, 3e-3, 1.0), (2, 1e-3, 0.0), (3, 1e-3, 0.0)]);
+        // The trainer applies the rule again when the level starts: it changes nothing.
+        for level in &plan {
+            assert_eq!(level.config.clone().warm_started(), level.config);
+        }
         // Absent, every level trains at the config's rate and shaping (the reference's rule).
         let plan = super::plan(&obl(), &[1, 2], Path::new("runs/obl")).unwrap();
         assert_eq!(plan[0].config.ppo, plan[1].config.ppo);

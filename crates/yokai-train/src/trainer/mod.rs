@@ -141,13 +141,15 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
     }
 
     /// A new run of `config` with `seed` whose network lives on `infer_device` (a device
-    /// from [`crate::Backend::device`]; training uses its autodiff twin).
+    /// from [`crate::Backend::device`]; training uses its autodiff twin). An OBL level ≥ 2
+    /// that starts from trained weights trains with its warm rate and shaping
+    /// ([`TrainConfig::warm_started`]).
     pub fn new_on(
         config: TrainConfig,
         seed: u64,
         infer_device: Device,
     ) -> Result<Trainer<E, M>, TrainError> {
-        let mut trainer = Trainer::fresh(config, seed, infer_device)?;
+        let mut trainer = Trainer::fresh(config.warm_started(), seed, infer_device)?;
         if let Some(path) = &trainer.config.run.init_from {
             let model = trainer.model.clone();
             trainer.model =
