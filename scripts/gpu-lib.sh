@@ -31,8 +31,10 @@ cuda_env() {
 # Kernels CubeCL has begun compiling so far, from its log.
 kernels_compiled() { grep -c START_KERNEL_COMPILATION /tmp/cubecl.log 2> /dev/null; }
 
+# device_check BINARY DEVICE OUT SECONDS [CONFIG] [UPDATES]: the same with another preset and
+# number of updates (default quick, 2); the run stays in /tmp/gpu-check.
 device_check() {
-    local bin=$1 device=$2 out=$3 seconds=$4 status sampler=
+    local bin=$1 device=$2 out=$3 seconds=$4 config=${5:-quick} updates=${6:-2} status sampler=
     rm -rf /tmp/gpu-check /tmp/cubecl.log
     # Every 30 s on a GPU: kernels compiled so far, and what the GPU is doing meanwhile.
     if [ "$device" != cpu ]; then
@@ -42,8 +44,8 @@ device_check() {
         done) &
         sampler=$!
     fi
-    CUBECL_DEBUG_LOG=/tmp/cubecl.log timeout "$seconds" "$bin" train quick --device "$device" \
-        --seeds 0 --max-updates 2 --eval-games 0 --out /tmp/gpu-check 2>&1 | quiet
+    CUBECL_DEBUG_LOG=/tmp/cubecl.log timeout "$seconds" "$bin" train "$config" --device "$device" \
+        --seeds 0 --max-updates "$updates" --eval-games 0 --out /tmp/gpu-check 2>&1 | quiet
     status=${PIPESTATUS[0]}
     [ -n "$sampler" ] && kill "$sampler" 2> /dev/null
     echo "exit status $status (124: stopped after $seconds s)"
@@ -52,7 +54,7 @@ device_check() {
             "kernels compiled, $(grep -c '^Autotune\[' /tmp/cubecl.log) autotune timings"
         tail -c 4000000 /tmp/cubecl.log > "$out/cubecl.log"
     fi
-    "$gpu_scripts/update-times.py" /tmp/gpu-check/seed-0/metrics.jsonl quick
+    "$gpu_scripts/update-times.py" /tmp/gpu-check/seed-0/metrics.jsonl "$config"
     return "$status"
 }
 

@@ -56,3 +56,43 @@ def test_updates_sums_joined_fields_over_a_range_with_sum(tmp_path):
     assert out.returncode == 0, out.stderr
     # (1 + 0.5) + (2 + 0.5) = 4.00; (3 + 0.5) + (4 + 0.5) = 8.00
     assert out.stdout.strip().splitlines()[-1] == f"| {run} | 4.00 | 8.00 |"
+
+
+def run_kernel_times(*args):
+    return subprocess.run(
+        [sys.executable, str(SCRIPTS / "cubecl-kernel-times.py"), *map(str, args)],
+        capture_output=True,
+        text=True,
+    )
+
+
+def test_cubecl_kernel_times_sums_by_family_and_lists_a_familys_kernels(tmp_path):
+    import lzma
+
+    log = tmp_path / "cubecl.log.xz"
+    lines = [
+        "[START_KERNEL_COMPILATION]",  # not a launch: skipped
+        "| 2ms       | ReduceKernel | TensorArgs_88872be8",
+        "| 2ms       | ReduceKernel | TensorArgs_88872be8",
+        "| 500µs     | ReduceKernel | TensorArgs_38f8a462",
+        "| 1.5ms     | MatmulEntry | TensorArgs | DynamicScalar",
+        "| 1000ns    | FullKernel_c9d6915a",
+        "| 999µs     | FullKernel_0a1b2c3d",
+    ]
+    with lzma.open(log, "wt") as f:
+        f.write("\n".join(lines) + "\n")
+    out = run_kernel_times(log)
+    assert out.returncode == 0, out.stderr
+    rows = out.stdout.strip().splitlines()
+    # 4.5 ms + 1.5 ms + 1 ms = 7 ms in 6 launches; families largest first, hashes cut off.
+    assert rows[0] == f"{log}: 0.01 s in 6 launches"
+    assert rows[1].split()[-1] == "ReduceKernel" and "3 launches" in rows[1] and "64.3 %" in rows[1]
+    assert rows[2].endswith("Matmul TensorArgs") and "1 launches" in rows[2]
+    assert rows[3].endswith("FullKernel") and "2 launches" in rows[3] and "14.3 %" in rows[3]
+    out = run_kernel_times(log, "--family", "ReduceKernel")
+    rows = out.stdout.strip().splitlines()
+    # One kernel of the family at a time: the 2-launch one first, its median 2 ms.
+    assert "2 launches, median     2000.0 µs" in rows[1] and rows[1].endswith("TensorArgs_88872be8")
+    assert rows[2].endswith("TensorArgs_38f8a462")
+    out = run_kernel_times(tmp_path / "missing.log")
+    assert out.returncode != 0 and "missing.log: cannot be read" in out.stderr

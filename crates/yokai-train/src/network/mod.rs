@@ -119,8 +119,7 @@ impl Encoder for CnnEncoder {
     fn forward(&self, obs: Tensor<2>) -> Tensor<2> {
         let [b, _] = obs.dims();
         let [h, w, c] = self.shape;
-        // Channels-last image → channels-first for Conv2d.
-        conv_stack(&self.convs, obs.reshape([b, h, w, c]).permute([0, 3, 1, 2]))
+        conv_stack(&self.convs, obs.reshape([b, h, w, c]))
     }
 }
 
@@ -132,13 +131,48 @@ fn conv_layers(init: &mut Init, c_in: usize, filters: usize, device: &Device) ->
         .collect()
 }
 
-/// `x` `[B, C, H, W]` through `convs`, each followed by a ReLU, flattened to `[B, F]`.
+/// `x` `[B, H, W, C]` (channels last, as the image observation is laid out) through
+/// `convs`, each followed by a ReLU, flattened channels first to `[B, F·H'·W']`: what
+/// `Conv2d::forward` on the channels-first image gives, in the same order, so policy files
+/// read the same.
 fn conv_stack(convs: &[Conv2d], mut x: Tensor<4>) -> Tensor<2> {
     let [b, ..] = x.dims();
     for conv in convs {
-        x = relu(conv.forward(x));
+        x = relu(conv3x3_by_patches(conv, x));
     }
-    x.reshape([b as i64, -1])
+    x.permute([0, 3, 1, 2]).reshape([b as i64, -1])
+}
+
+/// One 3×3 valid convolution of stride 1 (what [`conv_layers`] makes) on a channels-last
+/// `x` `[B, H, W, C]`, computed as one matrix product: the nine shifted views of `x`
+/// side by side along the channels are each output cell's 3×3 patch, `[B·H'·W', 9·C]`, and
+/// the kernel `[F, C, 3, 3]` is read as a `[9·C, F]` matrix; the bias is the matrix's last
+/// row, against a column of ones beside the patches.
+///
+/// Why not `Conv2d::forward`: the GPU build (no CubeCL autotune) runs it with burn's direct
+/// convolution kernel, which took 72 % of an update's GPU time at the paper's batch on an
+/// H200. Why the bias inside the product: added after it, its gradient is a sum over the
+/// B·H'·W' rows that CubeCL's reduction took 56 % of the GPU time to make, four times
+/// per gradient step; inside, the product's own backward makes it
+/// (docs/results/gpu-h200-3.md).
+fn conv3x3_by_patches(conv: &Conv2d, x: Tensor<4>) -> Tensor<4> {
+    let [b, h, w, c] = x.dims();
+    let (h_out, w_out) = (h - 2, w - 2);
+    let shifts = (0..3).flat_map(|i| (0..3).map(move |j| (i, j)));
+    let mut views: Vec<Tensor<4>> = shifts
+        .map(|(i, j)| x.clone().slice([0..b, i..i + h_out, j..j + w_out, 0..c]))
+        .collect();
+    let weight = conv.weight.val();
+    let [f, ..] = weight.dims();
+    // kernel[(i·3 + j)·C + c, f] = weight[f, c, i, j], the patches' feature order.
+    let mut kernel = weight.permute([2, 3, 1, 0]).reshape([9 * c, f]);
+    if let Some(bias) = &conv.bias {
+        views.push(Tensor::ones([b, h_out, w_out, 1], &x.device()));
+        kernel = Tensor::cat(vec![kernel, bias.val().unsqueeze_dim(0)], 0);
+    }
+    let [rows, _] = kernel.dims();
+    let patches = Tensor::cat(views, 3).reshape([b * h_out * w_out, rows]);
+    patches.matmul(kernel).reshape([b, h_out, w_out, f])
 }
 
 /// The compact encoder: one small MLP shared by every node (card or hint slot) of the
@@ -747,6 +781,49 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
 mod tests {
     use super::*;
     use crate::tensor::parameters;
+
+    /// The patch-product convolutions give what burn's `Conv2d::forward` gives on the
+    /// channels-first image, flattened in the same order (a non-square image, channels in
+    /// ≠ out, non-zero bias), and the same gradients for every kernel and bias.
+    #[test]
+    fn convolution_by_patches_is_burns_conv2d() {
+        use burn::tensor::Distribution;
+        let device = Device::flex().autodiff();
+        let normal = Distribution::Normal(0.0, 1.0);
+        let mut convs = conv_layers(&mut Init::new(5), 5, 6, &device);
+        for conv in &mut convs {
+            let bias = Tensor::random([6], normal, &device).require_grad();
+            conv.bias = Some(burn::module::Param::from_tensor(bias));
+        }
+        let x: Tensor<4> = Tensor::random([3, 11, 12, 5], normal, &device);
+        let by_patches = conv_stack(&convs, x.clone());
+        let mut y = x.permute([0, 3, 1, 2]);
+        for conv in &convs {
+            y = relu(conv.forward(y));
+        }
+        let by_burn = y.reshape([3i64, -1]);
+        assert_eq!(by_patches.dims(), [3, 6 * 3 * 4]);
+        let most = |t: Tensor<2>| t.abs().max().into_scalar::<f32>();
+        let diff = most(by_patches.clone() - by_burn.clone());
+        assert!(diff < 1e-4, "largest difference {diff}");
+        // Gradients of one weighted sum of the outputs, by each path.
+        let r: Tensor<2> = Tensor::random(by_burn.dims(), normal, &device);
+        let (g_patches, g_burn) = (
+            (by_patches * r.clone()).sum().backward(),
+            (by_burn * r).sum().backward(),
+        );
+        for (k, conv) in convs.iter().enumerate() {
+            let (weight, bias) = (conv.weight.val(), conv.bias.as_ref().unwrap().val());
+            let grads = |g| {
+                let w = weight.grad(g).unwrap().reshape([6, -1]);
+                let b = bias.grad(g).unwrap().reshape([1, 6]);
+                (w, b)
+            };
+            let ((w1, b1), (w2, b2)) = (grads(&g_patches), grads(&g_burn));
+            let (w, b) = (most(w1 - w2), most(b1 - b2));
+            assert!(w < 1e-3 && b < 1e-3, "layer {k}: kernel {w}, bias {b}");
+        }
+    }
 
     fn network(head_layers: usize) -> ActorCritic<MlpEncoder, GruCell> {
         let text =

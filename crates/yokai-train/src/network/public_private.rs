@@ -58,9 +58,9 @@ impl Encoder for PublicPrivateEncoder {
     fn forward(&self, obs: Tensor<2>) -> Tensor<2> {
         let [b, _] = obs.dims();
         let [h, w, c] = self.shape;
-        let x: Tensor<4> = obs.reshape([b, h, w, c]).permute([0, 3, 1, 2]);
-        let private = x.clone().narrow(1, 0, self.colours);
-        let public = x.narrow(1, self.colours, c - self.colours);
+        let x: Tensor<4> = obs.reshape([b, h, w, c]);
+        let private = x.clone().narrow(3, 0, self.colours);
+        let public = x.narrow(3, self.colours, c - self.colours);
         Tensor::cat(
             vec![
                 conv_stack(&self.public, public),
