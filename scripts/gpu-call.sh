@@ -36,16 +36,10 @@ out=${3:?usage: gpu-call.sh BINARY WHEEL OUT [SECONDS]}
 budget=${4:-560}
 device=${DEVICE:-cuda}
 torch_set=${TORCH_SET:-ppo.num_envs=256 ppo.rollout_steps=32 ppo.minibatches=16}
-start=$(date +%s)
-left() { echo $((budget - ($(date +%s) - start))); }
 here=$(cd "$(dirname "$0")" && pwd)
 . "$here/gpu-lib.sh"
-mkdir -p "$out"
-exec > >(tee -a "$out/call.log") 2>&1
-
-if [[ $bin == *.xz ]]; then
-    xz -dc "$bin" > /tmp/yokai && chmod +x /tmp/yokai && bin=/tmp/yokai
-fi
+call_start "$out" call.log
+bin=$(unpacked "$bin") || exit 1
 python3 -m pip install -q --no-index --no-deps --no-compile --target /tmp/site "$wheel" || exit 1
 export PYTHONPATH=/tmp/site${PYTHONPATH:+:$PYTHONPATH} PYTHONUNBUFFERED=1
 echo "== $(date -u +%FT%TZ) $($bin --version 2>&1) on $device; budget $budget s; $(nproc) cores"

@@ -1,6 +1,26 @@
 # Sourced by the GPU scripts (gpu-session.sh, gpu-call.sh, gpu-bench.sh): what each of them
 # needs on a machine with an NVIDIA GPU and no Rust toolchain.
 
+# call_start OUT LOG: what every GPU script does first: OUT made, everything the script
+# prints from here on also appended to OUT/LOG, and the clock of `left` started.
+call_start() {
+    mkdir -p "$1"
+    exec > >(tee -a "$1/$2") 2>&1
+    start=$(date +%s)
+}
+# Seconds left of the caller's $budget since call_start.
+left() { echo $((budget - ($(date +%s) - start))); }
+
+# unpacked BINARY: the binary's path, unpacked to /tmp/yokai first when it is `.xz`
+# (stripped and xz'd, a GPU build fits the device tool's 64 MiB).
+unpacked() {
+    if [[ $1 == *.xz ]]; then
+        xz -dc "$1" > /tmp/yokai && chmod +x /tmp/yokai && echo /tmp/yokai
+    else
+        echo "$1"
+    fi
+}
+
 # Progress-bar frames are dropped; every other line (an error, a panic) is kept whole.
 quiet() { tr '\r' '\n' | grep -v -e '^\s*$' -e '^seed [0-9]* \['; }
 

@@ -18,16 +18,10 @@ set -uo pipefail
 bin=${1:?usage: gpu-paper-speed.sh BINARY OUT [SECONDS]}
 out=${2:?usage: gpu-paper-speed.sh BINARY OUT [SECONDS]}
 budget=${3:-520}
-start=$(date +%s)
-left() { echo $((budget - ($(date +%s) - start))); }
 here=$(cd "$(dirname "$0")" && pwd)
 . "$here/gpu-lib.sh"
-mkdir -p "$out"
-exec > >(tee -a "$out/call.log") 2>&1
-
-if [[ $bin == *.xz ]]; then
-    xz -dc "$bin" > /tmp/yokai && chmod +x /tmp/yokai && bin=/tmp/yokai
-fi
+call_start "$out" call.log
+bin=$(unpacked "$bin") || exit 1
 echo "== $(date -u +%FT%TZ) $($bin --version 2>&1); budget $budget s; $(nproc) cores"
 nvidia-smi --query-gpu=name,driver_version,memory.total,clocks.sm --format=csv,noheader
 lscpu | grep -m1 'Model name'

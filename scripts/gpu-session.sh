@@ -26,16 +26,10 @@ budget=${3:-540}
 device=${4:-cuda}
 run_tar=${5:-}
 config=${TRAIN_CONFIG:-ippo-9c-2p}
-start=$(date +%s)
-left() { echo $((budget - ($(date +%s) - start))); }
-mkdir -p "$out"
-exec > >(tee -a "$out/session.log") 2>&1
 here=$(cd "$(dirname "$0")" && pwd)
 . "$here/gpu-lib.sh"
-
-if [[ $bin == *.xz ]]; then
-    xz -dc "$bin" > /tmp/yokai && chmod +x /tmp/yokai && bin=/tmp/yokai
-fi
+call_start "$out" session.log
+bin=$(unpacked "$bin") || exit 1
 echo "== $(date -u +%FT%TZ) $($bin --version 2>&1) on $device; budget ${budget} s"
 command -v nvidia-smi > /dev/null && nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv,noheader
 nproc
