@@ -93,9 +93,9 @@ impl super::TrainConfig {
     /// The config this run trains with: an OBL level ≥ 2 that starts from trained weights
     /// (`run.init_from`) takes `obl.warm_lr` and `obl.warm_shaping`, when given, in place
     /// of `ppo.lr` and `ppo.shaping`; any other config is returned as it is. One rule for
-    /// every way a level is started — `--levels` ([`crate::obl::levels::plan`]), a level
+    /// every way a level is started — `--levels` (`obl::levels::plan`), a level
     /// run by hand with `--init-from`, Python — because the trainer applies it when a run
-    /// starts ([`crate::Trainer::new_on`]). Applying it twice changes nothing, so a resumed
+    /// starts (`Trainer::new_on`). Applying it twice changes nothing, so a resumed
     /// run, whose saved config already holds the warm values, trains on as it started.
     pub fn warm_started(mut self) -> Self {
         if self.obl.level >= 2 && self.run.init_from.is_some() {
