@@ -44,12 +44,12 @@ pub struct OblConfig {
     pub decisions: u32,
     /// Levels ≥ 2 that start from trained weights (`run.init_from`: under `yokai train
     /// --levels`, the level below's; by hand, whatever `--init-from` names): the learning
-    /// rate they start at in place of `ppo.lr` ([`super::TrainConfig::warm_started`]). A new level restarts the rate
-    /// (with a fresh Adam) and the shaping reward, and a policy that already plays well is
-    /// jolted by both in its first updates: its critic learnt returns without shaping, so
-    /// the value loss jumps seven- to eightfold and the level's games fall below the level
-    /// it started from (docs/results/obl-levels-5M.md). Absent (the reference's rule): as
-    /// `ppo.lr`.
+    /// rate they start at in place of `ppo.lr` ([`super::TrainConfig::warm_started`]). A
+    /// new level restarts the rate (with a fresh Adam) and the shaping reward, and a policy
+    /// that already plays well is jolted by both in its first updates: its critic learnt
+    /// returns without shaping, so the value loss jumps seven- to eightfold and the level's
+    /// games fall below the level it started from (docs/results/obl-levels-5M.md). Absent
+    /// (the reference's rule): as `ppo.lr`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub warm_lr: Option<f64>,
     /// Levels ≥ 2 that start from trained weights (`run.init_from`): the shaping weight in
