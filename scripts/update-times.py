@@ -20,5 +20,7 @@ if not lines:
     sys.exit(1)
 for line in lines:
     s = json.loads(line)
+    rollout, learning = s["rollout_seconds"], s["learn_seconds"]
+    share = 100 * learning / (rollout + learning) if rollout + learning > 0 else float("nan")
     print(f"{label}update {s['update']}: {s['sps']:.0f} env steps/s end to end, "
-          f"rollout {s['rollout_seconds']:.2f} s, learning {s['learn_seconds']:.2f} s")
+          f"rollout {rollout:.2f} s, learning {learning:.2f} s ({share:.1f} % of the two)")
