@@ -6,6 +6,6 @@ for c in 1 2; do for g in 9c 16c; do
 done; done > update-times.txt
 for c in 1 2; do for g in 9c 16c; do
     $s/cubecl-kernel-times.py call$c-cubecl-ippo-$g-2p.log.xz --top 6
-    $s/cubecl-kernel-times.py call$c-cubecl-ippo-$g-2p.log.xz --family ReduceKernel --top 2
+    $s/cubecl-kernel-times.py call$c-cubecl-ippo-$g-2p.log.xz --family ReduceKernel --top 8
     echo
 done; done > kernel-times.txt
