@@ -152,8 +152,8 @@ fn conv_stack(convs: &[Conv2d], mut x: Tensor<4>) -> Tensor<2> {
 /// Why not `Conv2d::forward`: the GPU build (no CubeCL autotune) runs it with burn's direct
 /// convolution kernel, which took 72 % of an update's GPU time at the paper's batch on an
 /// H200. Why the bias inside the product: added after it, its gradient is a sum over the
-/// B·H'·W' rows that CubeCL's reduction took 56 % of the GPU time to make, four times
-/// per gradient step; inside, the product's own backward makes it
+/// B·H'·W' rows, and the reduction that (by its four launches per gradient step) makes it
+/// took 56 % of the GPU time; inside, the product's own backward makes it
 /// (docs/results/gpu-h200-3.md).
 fn conv3x3_by_patches(conv: &Conv2d, x: Tensor<4>) -> Tensor<4> {
     let [b, h, w, c] = x.dims();
