@@ -1,5 +1,5 @@
-# Sourced by the GPU scripts (gpu-session.sh, gpu-call.sh, gpu-bench.sh): what each of them
-# needs on a machine with an NVIDIA GPU and no Rust toolchain.
+# Sourced by the GPU scripts (gpu-session.sh, gpu-call.sh, gpu-paper-speed.sh, gpu-bench.sh):
+# what each of them needs on a machine with an NVIDIA GPU and no Rust toolchain.
 
 # call_start OUT LOG: what every GPU script does first: OUT made, everything the script
 # prints from here on also appended to OUT/LOG, and the clock of `left` started.
