@@ -154,8 +154,9 @@ impl OblConfig {
         if o.level == 0 && (o.warm_lr.is_some() || o.warm_shaping.is_some()) {
             return bad(
                 "obl.warm_lr / obl.warm_shaping",
-                "are read for OBL levels ≥ 2 that `--levels` starts from the level below; \
-                 this config trains no OBL level (obl.level = 0)",
+                "are read for OBL levels ≥ 2 that start from trained weights (run.init_from, \
+                 which `--levels` sets to the level below); this config trains no OBL level \
+                 (obl.level = 0)",
             );
         }
         if o.warm_lr.is_some_and(|lr| !(lr > 0.0 && lr.is_finite())) {
