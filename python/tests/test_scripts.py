@@ -96,3 +96,56 @@ def test_cubecl_kernel_times_sums_by_family_and_lists_a_familys_kernels(tmp_path
     assert rows[2].endswith("TensorArgs_38f8a462")
     out = run_kernel_times(tmp_path / "missing.log")
     assert out.returncode != 0 and "missing.log: cannot be read" in out.stderr
+
+
+def write_eval(folder, per_seed, sp_se, xp_mean=None):
+    """A `yokai eval -o` folder: one group whose seeds play themselves with `per_seed` R."""
+    folder.mkdir()
+    seeds = [f"{folder.name}/seed-{i}" for i in range(len(per_seed))]
+    stat = lambda mean, se=0.0: {"mean": mean, "se": se, "n": len(per_seed)}  # noqa: E731
+    sp = {
+        "entries": len(per_seed),
+        "reward": stat(sum(per_seed) / len(per_seed), sp_se),
+        "see": stat(10.0),
+        "length": stat(31.0),
+    }
+    xp = {"entries": 0} if xp_mean is None else {"entries": 3, "reward": stat(xp_mean, 0.05)}
+    group = {"name": folder.name, "seeds": seeds, "sp": sp, "xp": xp}
+    (folder / "summary.json").write_text(json.dumps({"groups": [group]}))
+    # The diagonal in the reverse of the summary's order, and one cross-play entry: the
+    # per-seed column must follow the summary's seeds, not the file's order.
+    matrix = [{"row": s, "col": s, "metrics": {"reward": r}} for s, r in zip(seeds, per_seed)]
+    matrix = matrix[::-1] + [{"row": seeds[0], "col": seeds[1], "metrics": {"reward": -9.0}}]
+    (folder / "matrix.json").write_text(json.dumps(matrix))
+
+
+def run_compare(*args):
+    return subprocess.run(
+        [sys.executable, str(SCRIPTS / "compare-evals.py"), *map(str, args)],
+        capture_output=True,
+        text=True,
+    )
+
+
+def test_compare_evals_pairs_seeds_in_the_summarys_order(tmp_path):
+    write_eval(tmp_path / "a", [1.0, 2.0, 3.0], 0.3, xp_mean=1.5)
+    write_eval(tmp_path / "b", [1.5, 2.0, 4.0], 0.4)
+    write_eval(tmp_path / "c", [2.0, 2.0], 0.0)
+    out = run_compare(f"A={tmp_path / 'a'}", f"B={tmp_path / 'b'}", f"C={tmp_path / 'c'}")
+    assert out.returncode == 0, out.stderr
+    rows = out.stdout.splitlines()
+    assert rows[2] == "| A | 1.00, 2.00, 3.00 | 2.00 ± 0.30 | 1.50 ± 0.05 | -0.50 | 10.0 | 31.0 |"
+    assert rows[3].startswith("| B | 1.50, 2.00, 4.00 | 2.50 ± 0.40 | – | – |")
+    # B − A: +0.50 with SE hypot(0.3, 0.4) = 0.5; paired +0.5, 0, +1 -> mean 0.5, SE 0.29.
+    assert "| B − A | +0.50 (0.50, 1.0 SE) | +0.50, +0.00, +1.00 | +0.50 ± 0.29 |" in rows
+    assert any(r.startswith("| C − B |") and "(seed counts differ)" in r for r in rows)
+    out = run_compare("--against", "first", f"A={tmp_path / 'a'}", f"B={tmp_path / 'b'}", f"C={tmp_path / 'c'}")
+    assert any(r.startswith("| C − A |") for r in out.stdout.splitlines())
+
+
+def test_compare_evals_names_a_folder_that_is_not_an_evaluation(tmp_path):
+    out = run_compare(tmp_path)
+    assert out.returncode != 0 and f"{tmp_path}/summary.json: no such file" in out.stderr
+    (tmp_path / "summary.json").write_text("{")
+    out = run_compare(tmp_path)
+    assert out.returncode != 0 and "summary.json: not JSON" in out.stderr
