@@ -149,3 +149,32 @@ def test_compare_evals_names_a_folder_that_is_not_an_evaluation(tmp_path):
     (tmp_path / "summary.json").write_text("{")
     out = run_compare(tmp_path)
     assert out.returncode != 0 and "summary.json: not JSON" in out.stderr
+
+
+def run_belief_curve(*args):
+    return subprocess.run(
+        [sys.executable, str(SCRIPTS / "belief-curve.py"), *map(str, args)],
+        capture_output=True,
+        text=True,
+    )
+
+
+def test_belief_curve_weights_each_update_by_its_slots(tmp_path):
+    run = tmp_path / "seed-0"
+    run.mkdir()
+    # Update 1: 1 slot, model 0.9 against baseline 0.7 (gain -0.2); update 2: 3 slots,
+    # model 0.6 against 0.7 (gain +0.1). Over both, weighted: (-0.2 + 3 * 0.1) / 4 = 0.025.
+    rows = [
+        {"update": 1, "cross_entropy": 0.9, "first_hand_baseline": 0.7, "slots": 1},
+        {"update": 2, "cross_entropy": 0.6, "first_hand_baseline": 0.7, "slots": 3},
+    ]
+    (run / "belief.jsonl").write_text("".join(json.dumps(r) + "\n" for r in rows))
+    out = run_belief_curve("--at", "1,2", "--window", "2", run)
+    assert out.returncode == 0, out.stderr
+    lines = out.stdout.splitlines()
+    assert lines[2].startswith("| 1 | -0.2000 |")
+    assert lines[3].startswith("| 2 | 0.0250 |")
+    out = run_belief_curve("--at", "3", run)
+    assert out.returncode != 0 and "2 updates, none at 3" in out.stderr
+    out = run_belief_curve("--at", "1", tmp_path)
+    assert out.returncode != 0 and "only OBL levels ≥ 2 train a belief" in out.stderr
