@@ -119,12 +119,17 @@ def write_eval(folder, per_seed, sp_se, xp_mean=None):
     (folder / "matrix.json").write_text(json.dumps(matrix))
 
 
-def run_compare(*args):
+def run_script(name, *args):
+    """Run scripts/NAME with ARGS; the finished process (returncode, stdout, stderr)."""
     return subprocess.run(
-        [sys.executable, str(SCRIPTS / "compare-evals.py"), *map(str, args)],
+        [sys.executable, str(SCRIPTS / name), *map(str, args)],
         capture_output=True,
         text=True,
     )
+
+
+def run_compare(*args):
+    return run_script("compare-evals.py", *args)
 
 
 def test_compare_evals_pairs_seeds_in_the_summarys_order(tmp_path):
@@ -152,11 +157,7 @@ def test_compare_evals_names_a_folder_that_is_not_an_evaluation(tmp_path):
 
 
 def run_belief_curve(*args):
-    return subprocess.run(
-        [sys.executable, str(SCRIPTS / "belief-curve.py"), *map(str, args)],
-        capture_output=True,
-        text=True,
-    )
+    return run_script("belief-curve.py", *args)
 
 
 def test_belief_curve_weights_each_update_by_its_slots(tmp_path):
