@@ -12,9 +12,10 @@ where the belief reads more than first-hand knowledge), and their mean ± SE ove
 """
 import argparse
 import json
-import math
 import pathlib
 import sys
+
+from stats import mean_se
 
 
 def fail(message):
@@ -60,13 +61,7 @@ def main():
     print("|---|" + "---|" * (len(args.runs) + 1))
     for end in points:
         gains = [gain(path, rows, end, args.window) for path, rows in data]
-        n = len(gains)
-        mean = sum(gains) / n
-        se = (
-            math.sqrt(sum((g - mean) ** 2 for g in gains) / (n - 1) / n)
-            if n > 1
-            else float("nan")
-        )
+        mean, se = mean_se(gains)
         cells = " | ".join(f"{g:.4f}" for g in gains)
         print(f"| {end} | {cells} | {mean:.4f} ± {se:.4f} |")
 

@@ -23,6 +23,8 @@ import math
 import pathlib
 import sys
 
+from stats import mean_se
+
 
 def fail(message):
     sys.exit(f"compare-evals: {message}")
@@ -60,15 +62,6 @@ def load(spec, group_index):
         "xp": group.get("xp"),
         "per_seed": [diagonal[s] for s in group["seeds"]],
     }
-
-
-def mean_se(xs):
-    n = len(xs)
-    mean = sum(xs) / n
-    if n < 2:
-        return mean, float("nan")
-    sd = math.sqrt(sum((x - mean) ** 2 for x in xs) / (n - 1))
-    return mean, sd / math.sqrt(n)
 
 
 def main():

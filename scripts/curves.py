@@ -12,8 +12,9 @@ first 10 (start-up), and their sum (the machine's, for seeds run side by side).
 
 import argparse
 import json
-import math
 import pathlib
+
+from stats import mean_se
 
 
 def series(run: str):
@@ -40,14 +41,6 @@ def at(points, step: float, window: float, k: int) -> float:
     if not inside:
         raise SystemExit(f"no update between {step - window:,.0f} and {step:,.0f} env steps")
     return sum(inside) / len(inside)
-
-
-def mean_se(xs):
-    m = sum(xs) / len(xs)
-    if len(xs) < 2:
-        return m, 0.0
-    var = sum((x - m) ** 2 for x in xs) / (len(xs) - 1)
-    return m, math.sqrt(var / len(xs))
 
 
 def main() -> None:
