@@ -6,7 +6,7 @@ use yokai_agents::Policy;
 use yokai_engine::Part;
 use yokai_train::Container;
 use yokai_train::{
-    read_metrics, train_run, CriticInput, EncoderKind, EndForm, MlpEncoder, RunRequest,
+    read_metrics, train_run, BeliefOf, CriticInput, EncoderKind, EndForm, MlpEncoder, RunRequest,
     SymmetrySet, TrainConfig, TrainError, TrainedPolicy, Trainer, UpdateStats,
 };
 
@@ -393,6 +393,53 @@ fn an_obl_run_logs_its_belief_curve() {
         text,
         "the resume's curve"
     );
+}
+
+/// `obl.belief_of = "all-seeds"`: a level ≥ 2 belief learns from the games of every seed
+/// of the level below, game g of each rollout played by seed run g mod n. Two copies of
+/// one run below give its own-seed belief bit for bit (every game routed to a network and
+/// back to its row); two different runs give another curve; a folder without `seed-N` runs
+/// is refused, naming the option.
+#[test]
+fn a_belief_of_all_seeds_reads_every_seed_of_the_level_below() {
+    let tmp = tempdir("belief-of");
+    let mut level1 = tiny(SymmetrySet::None, 1);
+    level1.obl.level = 1;
+    let train = |config: &TrainConfig, seed: u64, dir: &std::path::Path| {
+        let request = RunRequest {
+            config,
+            seed,
+            dir,
+            resume: false,
+            max_updates: Some(1),
+            backend: yokai_train::Backend::Cpu,
+        };
+        one_thread(|| train_run(&request, &mut |_, _| {}))
+    };
+    let (two, same) = (tmp.path().join("two"), tmp.path().join("same"));
+    for seed in 0..2 {
+        train(&level1, seed, &two.join(format!("seed-{seed}"))).unwrap();
+        let copy = same.join(format!("seed-{seed}"));
+        std::fs::create_dir_all(&copy).unwrap();
+        std::fs::copy(two.join("seed-0/policy.ykp"), copy.join("policy.ykp")).unwrap();
+    }
+    let mut level2 = level1.clone();
+    level2.obl.level = 2;
+    level2.obl.belief_updates = 6;
+    level2.obl.belief_hidden = 8;
+    let curve = |previous: &std::path::Path, of: BeliefOf, name: &str| {
+        let mut c = level2.clone();
+        c.obl.previous = Some(previous.to_path_buf());
+        c.obl.belief_of = of;
+        let dir = tmp.path().join(name);
+        train(&c, 0, &dir).map(|_| std::fs::read_to_string(dir.join("belief.jsonl")).unwrap())
+    };
+    let own = curve(&two, BeliefOf::OwnSeed, "own").unwrap();
+    assert_eq!(own.lines().count(), 6);
+    assert_eq!(curve(&same, BeliefOf::AllSeeds, "same").unwrap(), own);
+    assert_ne!(curve(&two, BeliefOf::AllSeeds, "all").unwrap(), own);
+    let e = curve(&two.join("seed-0"), BeliefOf::AllSeeds, "none").unwrap_err();
+    assert!(e.to_string().contains("all-seeds"), "{e}");
 }
 
 /// An OBL level 2 run by hand (`obl.previous` and `run.init_from`, no `--levels`) starts at

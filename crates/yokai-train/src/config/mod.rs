@@ -24,7 +24,7 @@ pub use network::{
     ActionHead, ColourNames, CriticInput, EncoderKind, GraphReadout, MemoryKind, NetworkConfig,
     NetworkPreset, GRAPH_HEADS,
 };
-pub use obl::{OblConfig, OblPartner};
+pub use obl::{BeliefOf, OblConfig, OblPartner};
 pub use overrides::Override;
 pub use ppo::{EndForm, PpoConfig};
 pub use presets::PRESETS;
@@ -471,6 +471,31 @@ mod tests {
         assert!(e.contains("obl.warm_lr") && e.contains("positive"), "{e}");
         let e = refused("[obl]\nlevel = 1\nwarm_shaping = -1.0\n", "x");
         assert!(e.contains("obl.warm_shaping") && e.contains("≥ 0"), "{e}");
+        // The belief of every seed of the level below: read by levels ≥ 2, allowed at level
+        // 1 (whose `--levels` plan makes the levels above), refused without OBL.
+        let c = TrainConfig::from_toml_str(
+            "[obl]\nlevel = 2\nprevious = \"runs/x\"\nbelief_of = \"all-seeds\"\n",
+            "x",
+        )
+        .unwrap();
+        assert_eq!(
+            (c.obl.belief_of, TrainConfig::default().obl.belief_of),
+            (BeliefOf::AllSeeds, BeliefOf::OwnSeed)
+        );
+        assert!(
+            TrainConfig::from_toml_str("[obl]\nlevel = 1\nbelief_of = \"all-seeds\"\n", "x")
+                .is_ok()
+        );
+        let e = refused("[obl]\nbelief_of = \"all-seeds\"\n", "x");
+        assert!(
+            e.contains("obl.belief_of") && e.contains("obl.level = 0"),
+            "{e}"
+        );
+        let e = refused(
+            "[obl]\nlevel = 2\nprevious = \"runs/x\"\nbelief_of = \"every\"\n",
+            "x",
+        );
+        assert!(e.contains("belief_of"), "{e}");
     }
 
     #[test]

@@ -25,6 +25,13 @@ pub struct OblConfig {
     pub belief_updates: u64,
     /// Levels ≥ 2: width of the belief model's memory.
     pub belief_hidden: usize,
+    /// Levels ≥ 2: whose self-play the belief model learns from. `own-seed` (the rule of
+    /// OBL): seed N's level below. `all-seeds`: every `seed-N` run of `previous` (a
+    /// directory of seeds), game g of each belief rollout played by the g-th of them in
+    /// turn, so every seed of a level reads its partner's actions by the same belief, of
+    /// the level below as a population rather than of its own lineage.
+    #[serde(skip_serializing_if = "BeliefOf::is_own_seed")]
+    pub belief_of: BeliefOf,
     /// A diagnostic, not OBL (level 1 only): every continuation runs in the true colours
     /// instead of a draw from the belief. The continuation is then the real transition, so
     /// this is self-play with OBL's one-step targets: what the learning machinery reaches
@@ -66,6 +73,7 @@ impl Default for OblConfig {
             previous: None,
             belief_updates: 300,
             belief_hidden: 64,
+            belief_of: BeliefOf::OwnSeed,
             oracle: false,
             partner: OblPartner::Previous,
             decisions: 1,
@@ -87,6 +95,23 @@ pub enum OblPartner {
     /// game share the learning network's runner, `pyhanabi/act_group.py`) and as OBL's
     /// operator reads ("future actions will follow π_ℓ", the paper's §4).
     Learner,
+}
+
+/// Whose self-play a level ≥ 2 trains its belief on (`obl.belief_of`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum BeliefOf {
+    /// The same seed's run of the level below.
+    #[default]
+    OwnSeed,
+    /// Every seed's run of the level below, one game in turn each.
+    AllSeeds,
+}
+
+impl BeliefOf {
+    fn is_own_seed(&self) -> bool {
+        *self == BeliefOf::OwnSeed
+    }
 }
 
 impl super::TrainConfig {
@@ -136,6 +161,13 @@ impl OblConfig {
             return bad(
                 "obl.belief_updates / obl.belief_hidden",
                 "must be at least 1",
+            );
+        }
+        if o.level == 0 && o.belief_of != BeliefOf::OwnSeed {
+            return bad(
+                "obl.belief_of",
+                "is read by OBL levels ≥ 2 (level 1's belief is exact, of random play); this \
+                 config trains no OBL level (obl.level = 0)",
             );
         }
         if o.decisions == 0 {

@@ -37,9 +37,11 @@ pub enum LevelBelow {
     /// A policy in every seat, built afresh for each seat of each episode from a seed
     /// (e.g. `TrainedPolicy::build` of the previous OBL level, or a scripted bot).
     Policy(Box<dyn FnMut(u64) -> Box<dyn Policy> + Send>),
-    /// A trained network in every seat (the previous OBL level), stepped for all seats of
-    /// all games in one batch, its memory read on every step as in training.
-    Network(Box<TrainedPolicy>),
+    /// Trained networks (the previous OBL level: one seed's, or every seed's under
+    /// `obl.belief_of = "all-seeds"`), game g played by network g mod n in every seat; each
+    /// network steps all seats of its games in one batch, its memory read on every step as
+    /// in training. With one network, every game is its self-play.
+    Networks(Vec<TrainedPolicy>),
 }
 
 /// Sizes and learning rate of belief training.
@@ -120,8 +122,8 @@ pub struct BeliefTrainer {
     players: LevelBelow,
     /// With a policy below: its seats per game, and the episode they were built for.
     seats: Vec<(u64, Vec<Box<dyn Policy>>)>,
-    /// With a network below: its memory per row, `[rows × H]`.
-    below_hidden: Vec<f32>,
+    /// With networks below: each one's memory of its games' rows, `[its rows × H]`.
+    below_hidden: Vec<Vec<f32>>,
     /// Every row's memory at the start of the next rollout, `[rows × H]`.
     hidden: Vec<f32>,
     updates: u64,
@@ -153,6 +155,15 @@ impl BeliefTrainer {
         let device = device.autodiff();
         let model = BeliefModel::new(&game, config.hidden, derive_seed(seed, 0xBE2), &device);
         let rows = config.num_envs * game.players();
+        let below_hidden = match &players {
+            LevelBelow::Networks(nets) => (0..nets.len())
+                .map(|m| {
+                    let games = (m..config.num_envs).step_by(nets.len()).count();
+                    vec![0.0; games * game.players() * nets[m].hidden_size()]
+                })
+                .collect(),
+            _ => Vec::new(),
+        };
         Ok(BeliefTrainer {
             hidden: vec![0.0; rows * config.hidden],
             optim: AdamConfig::new().with_epsilon(1e-5).init(),
@@ -162,10 +173,7 @@ impl BeliefTrainer {
             device,
             model,
             env,
-            below_hidden: match &players {
-                LevelBelow::Network(net) => vec![0.0; rows * net.hidden_size()],
-                _ => Vec::new(),
-            },
+            below_hidden,
             players,
             seats: Vec::new(),
             updates: 0,
@@ -225,9 +233,9 @@ impl BeliefTrainer {
                 let seed = derive_seed(derive_seed(self.seed, 0xBE3), step);
                 return self.env.sample_legal(seed, actions);
             }
-            LevelBelow::Network(net) => {
+            LevelBelow::Networks(nets) => {
                 let seed = derive_seed(derive_seed(self.seed, 0xBE5), step);
-                return choose_by_network(net, &self.env, &mut self.below_hidden, seed, actions);
+                return choose_by_networks(nets, &self.env, &mut self.below_hidden, seed, actions);
             }
             LevelBelow::Policy(build) => build,
         };
@@ -388,31 +396,42 @@ struct BeliefBatch {
     uniform: f64,
 }
 
-/// Every seat of every game steps `net`'s memory on its observation (`hidden`, per row);
-/// the acting seat of each game samples its action from the network's logits.
-fn choose_by_network(
-    net: &TrainedPolicy,
+/// Every seat of every game steps its network's memory on its observation (`hidden`, per
+/// network and row; game i is network i mod n's); the acting seat of each game samples its
+/// action from that network's logits. Every network needs a game (n ≤ games).
+fn choose_by_networks(
+    nets: &[TrainedPolicy],
     env: &VecEnv<f32>,
-    hidden: &mut [f32],
+    hidden: &mut [Vec<f32>],
     seed: u64,
     actions: &mut [u32],
 ) {
-    let game = env.config();
-    let p = game.players();
-    let rows: Vec<(&Game, Seat)> = (0..actions.len() * p)
-        .map(|r| (env.game(r / p), Seat((r % p) as u8)))
-        .collect();
-    let keep = rows
+    let p = env.config().players();
+    let n = nets.len();
+    // Network m steps every seat of games m, m + n, …: its j-th game's rows are j·p….
+    let stepped: Vec<_> = nets
         .iter()
-        .map(|(g, _)| (g.steps() > 0) as u8 as f32)
+        .zip(hidden.iter_mut())
+        .enumerate()
+        .map(|(m, (net, hidden))| {
+            let rows: Vec<(&Game, Seat)> = (m..actions.len())
+                .step_by(n)
+                .flat_map(|i| (0..p).map(move |s| (env.game(i), Seat(s as u8))))
+                .collect();
+            let keep = rows
+                .iter()
+                .map(|(g, _)| (g.steps() > 0) as u8 as f32)
+                .collect();
+            let stepped = net.step_seats(&rows, std::mem::take(hidden), keep);
+            hidden.clone_from(&stepped.states);
+            stepped
+        })
         .collect();
-    let stepped = net.step_seats(&rows, hidden.to_vec(), keep);
-    hidden.copy_from_slice(&stepped.states);
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     for (i, action) in actions.iter_mut().enumerate() {
         let g = env.game(i);
-        let r = i * p + g.current_seat().index();
-        let logits = stepped.logits(r).expect("the acting seat's logits");
+        let r = (i / n) * p + g.current_seat().index();
+        let logits = stepped[i % n].logits(r).expect("the acting seat's logits");
         *action = sample_legal(g, logits, &mut rng) as u32;
     }
 }

@@ -10,7 +10,7 @@ use super::belief::first_hand_slots;
 use super::learn::{BeliefStats, BeliefTrainConfig, BeliefTrainer, LevelBelow};
 use super::model::BeliefModel;
 use crate::actor::Actor;
-use crate::config::TrainConfig;
+use crate::config::{BeliefOf, TrainConfig};
 use crate::error::TrainError;
 use crate::policy::TrainedPolicy;
 use crate::tensor::{tensor2, to_vec};
@@ -35,8 +35,9 @@ pub(crate) struct PreviousLevel {
 
 impl PreviousLevel {
     /// Load `obl.previous` (seed N's `seed-N` inside it where there is one) and train the
-    /// belief on its self-play, deterministically in `seed`; its memory of the run's `rows`
-    /// rows starts at zero.
+    /// belief on its self-play (on every seed run's in turn under `obl.belief_of =
+    /// "all-seeds"`), deterministically in `seed`; its memory of the run's `rows` rows
+    /// starts at zero.
     pub fn load(
         config: &TrainConfig,
         game: &Config,
@@ -49,22 +50,38 @@ impl PreviousLevel {
             .previous
             .as_ref()
             .expect("validated: levels ≥ 2 name their previous level");
-        let policy = TrainedPolicy::load(&crate::artifact::names::seed_path(given, seed))?;
-        policy.check_game(game)?;
-        let names = policy.config().network.colours;
-        if names != crate::config::ColourNames::Dealt {
-            return Err(TrainError::Obl(format!(
-                "{}: its network names colours as network.colours = \"{names}\", which OBL's \
-                 partners do not keep: train the level below with colours as dealt",
-                policy.path().display()
-            )));
-        }
+        let policy = load_below(&crate::artifact::names::seed_path(given, seed), game)?;
         let belief_config =
             BeliefTrainConfig::small(config.obl.belief_hidden, config.obl.belief_updates);
+        let population = match config.obl.belief_of {
+            BeliefOf::OwnSeed => vec![policy.clone()],
+            BeliefOf::AllSeeds => {
+                let runs = crate::artifact::names::seed_runs(given);
+                if runs.is_empty() {
+                    return Err(TrainError::Obl(format!(
+                        "obl.belief_of = \"all-seeds\" reads every seed-N run of obl.previous, \
+                         and {} holds none",
+                        given.display()
+                    )));
+                }
+                if runs.len() > belief_config.num_envs {
+                    return Err(TrainError::Obl(format!(
+                        "obl.belief_of = \"all-seeds\": {} holds {} seed runs, and the belief \
+                         plays {} games at a time, one seed each",
+                        given.display(),
+                        runs.len(),
+                        belief_config.num_envs
+                    )));
+                }
+                runs.iter()
+                    .map(|(_, dir)| load_below(dir, game))
+                    .collect::<Result<_, _>>()?
+            }
+        };
         let mut trainer = BeliefTrainer::new(
             *game,
             belief_config,
-            LevelBelow::Network(Box::new(policy.clone())),
+            LevelBelow::Networks(population),
             derive_seed(seed, 0xB0B),
             device.clone(),
         )?;
@@ -160,4 +177,19 @@ impl PreviousLevel {
         self.belief
             .sample(&game, states, &obs, &adjacency, &first, rng)
     }
+}
+
+/// A run of the level below, checked for this game and for colours named as dealt.
+fn load_below(path: &std::path::Path, game: &Config) -> Result<TrainedPolicy, TrainError> {
+    let policy = TrainedPolicy::load(path)?;
+    policy.check_game(game)?;
+    let names = policy.config().network.colours;
+    if names != crate::config::ColourNames::Dealt {
+        return Err(TrainError::Obl(format!(
+            "{}: its network names colours as network.colours = \"{names}\", which OBL's \
+             partners do not keep: train the level below with colours as dealt",
+            policy.path().display()
+        )));
+    }
+    Ok(policy)
 }
