@@ -32,7 +32,7 @@ pub fn seed_path(path: &Path, seed: u64) -> PathBuf {
 
 /// The `seed-N` runs inside `path`, by N ascending (empty where it holds none or cannot
 /// be read): a method's seeds, as `yokai train --seeds` writes them.
-pub fn seed_runs(path: &Path) -> Vec<(u64, PathBuf)> {
+pub fn seed_runs(path: &Path) -> Vec<PathBuf> {
     let Ok(entries) = std::fs::read_dir(path) else {
         return Vec::new();
     };
@@ -49,7 +49,7 @@ pub fn seed_runs(path: &Path) -> Vec<(u64, PathBuf)> {
         })
         .collect();
     runs.sort();
-    runs
+    runs.into_iter().map(|(_, dir)| dir).collect()
 }
 
 /// Whether `dir` is a run directory: it holds a policy file or a checkpoint (what
@@ -78,10 +78,7 @@ mod tests {
         }
         let runs = seed_runs(&dir);
         let _ = std::fs::remove_dir_all(&dir);
-        assert_eq!(
-            runs,
-            vec![(2, dir.join("seed-2")), (10, dir.join("seed-10"))]
-        );
+        assert_eq!(runs, vec![dir.join("seed-2"), dir.join("seed-10")]);
         assert!(seed_runs(&dir).is_empty(), "a missing folder has no runs");
     }
 }

@@ -422,8 +422,9 @@ fn choose_by_networks(
                 .iter()
                 .map(|(g, _)| (g.steps() > 0) as u8 as f32)
                 .collect();
-            let stepped = net.step_seats(&rows, std::mem::take(hidden), keep);
-            hidden.clone_from(&stepped.states);
+            let mut stepped = net.step_seats(&rows, std::mem::take(hidden), keep);
+            // The new states become the memory; the logits stay in `stepped`.
+            *hidden = std::mem::take(&mut stepped.states);
             stepped
         })
         .collect();

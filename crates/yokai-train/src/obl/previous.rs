@@ -74,7 +74,7 @@ impl PreviousLevel {
                     )));
                 }
                 runs.iter()
-                    .map(|(_, dir)| load_below(dir, game))
+                    .map(|dir| load_below(dir, game))
                     .collect::<Result<_, _>>()?
             }
         };
