@@ -10,13 +10,9 @@ echo
 python3 scripts/compare-evals.py "level 2, belief 300=$D/obl-12M/lr1e-3-level-2" \
   "level 2, belief 10000=$D/obl-belief-10k/level-2" | sed -n '/^| comparison/,$p'
 echo
-# level 3 (10,000) against level 2 (10,000), and against the 300-update chain's level 3
+# level 3 (10,000) against level 2 (10,000), level 4 against level 3
 python3 scripts/compare-evals.py "level 2, belief 10000=$D/obl-belief-10k/level-2" \
-  "level 3, belief 10000=$D/obl-belief-10k/level-3"
+  "level 3, belief 10000=$D/obl-belief-10k/level-3" "level 4, belief 10000=$D/obl-belief-10k/level-4"
 echo
 python3 scripts/compare-evals.py "level 3, belief 300=$D/obl-12M-levels-3-4/level-3" \
   "level 3, belief 10000=$D/obl-belief-10k/level-3" | sed -n '/^| comparison/,$p'
-echo
-# level 4 (10,000) against level 3 (10,000)
-python3 scripts/compare-evals.py "level 3, belief 10000=$D/obl-belief-10k/level-3" \
-  "level 4, belief 10000=$D/obl-belief-10k/level-4"

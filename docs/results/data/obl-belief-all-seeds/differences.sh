@@ -7,9 +7,6 @@ D=docs/results/data
 python3 scripts/compare-evals.py --against first "level 3=$D/obl-belief-10k/level-3" \
   "level 4, own-seed=$D/obl-belief-10k/level-4" "level 4, all-seeds=$D/obl-belief-all-seeds/level-4"
 echo
+# then each against the one before: all-seeds level 4 against own-seed, level 5 against it
 python3 scripts/compare-evals.py "level 4, own-seed=$D/obl-belief-10k/level-4" \
-  "level 4, all-seeds=$D/obl-belief-all-seeds/level-4" | sed -n '/^| comparison/,$p'
-echo
-# level 5 (all-seeds, on the all-seeds level 4) against level 4 (all-seeds)
-python3 scripts/compare-evals.py "level 4, all-seeds=$D/obl-belief-all-seeds/level-4" \
-  "level 5, all-seeds=$D/obl-belief-all-seeds/level-5"
+  "level 4, all-seeds=$D/obl-belief-all-seeds/level-4" "level 5, all-seeds=$D/obl-belief-all-seeds/level-5"
