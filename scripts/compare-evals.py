@@ -12,8 +12,10 @@ Prints, in Markdown:
   the summary's seed order), XP R mean ± SE, XP − SP, SP SEE % and LEN;
 - per comparison (each evaluation against the one before it, or against the first with
   `--against first`): the difference of the SP means with SE = sqrt(se_a² + se_b²), and,
-  when both have the same number of seeds, the paired per-seed differences (seed N of B
-  minus seed N of A) with their mean ± SE.
+  when both hold the same seeds, the paired per-seed differences (seed N of B minus seed N
+  of A) with their mean ± SE. Seeds are matched by the `seed-N` in their run names (seeds
+  3–5 are not paired with seeds 0–2: other seeds are independent samples); runs named
+  without one are paired in order when the counts agree.
 
 Only the first group of each summary is read (`--group` picks another).
 """
@@ -21,6 +23,7 @@ import argparse
 import json
 import math
 import pathlib
+import re
 import sys
 
 from stats import mean_se
@@ -61,7 +64,23 @@ def load(spec, group_index):
         "sp": group["sp"],
         "xp": group.get("xp"),
         "per_seed": [diagonal[s] for s in group["seeds"]],
+        "seed_numbers": seed_numbers(group["seeds"]),
     }
+
+
+def seed_numbers(labels):
+    """The N of each label's `seed-N` (the last one in it), or None when a label has none."""
+    numbers = [re.findall(r"seed-(\d+)", label) for label in labels]
+    return [int(n[-1]) for n in numbers] if all(numbers) else None
+
+
+def pairing(a, b):
+    """Why A and B cannot be paired seed by seed, or None when they can."""
+    if len(a["per_seed"]) != len(b["per_seed"]):
+        return "(seed counts differ)"
+    if a["seed_numbers"] and b["seed_numbers"] and a["seed_numbers"] != b["seed_numbers"]:
+        return "(other seeds: unpaired)"
+    return None
 
 
 def main():
@@ -97,13 +116,14 @@ def main():
         sa, sb = a["sp"]["reward"], b["sp"]["reward"]
         diff, se = sb["mean"] - sa["mean"], math.hypot(sa["se"], sb["se"])
         z = f"{diff / se:.1f} SE" if se > 0 else "–"
-        if len(a["per_seed"]) == len(b["per_seed"]):
+        why_not = pairing(a, b)
+        if why_not is None:
             xs = [y - x for x, y in zip(a["per_seed"], b["per_seed"])]
             m, s = mean_se(xs)
             paired = ", ".join(f"{x:+.2f}" for x in xs)
             paired_mean = f"{m:+.2f} ± {s:.2f}"
         else:
-            paired, paired_mean = "(seed counts differ)", "–"
+            paired, paired_mean = why_not, "–"
         print(
             f"| {b['name']} − {a['name']} | {diff:+.2f} ({se:.2f}, {z}) | {paired} | {paired_mean} |"
         )

@@ -98,10 +98,11 @@ def test_cubecl_kernel_times_sums_by_family_and_lists_a_familys_kernels(tmp_path
     assert out.returncode != 0 and "missing.log: cannot be read" in out.stderr
 
 
-def write_eval(folder, per_seed, sp_se, xp_mean=None):
-    """A `yokai eval -o` folder: one group whose seeds play themselves with `per_seed` R."""
+def write_eval(folder, per_seed, sp_se, xp_mean=None, first_seed=0):
+    """A `yokai eval -o` folder: one group whose seeds (`seed-N` from `first_seed` on) play
+    themselves with `per_seed` R."""
     folder.mkdir()
-    seeds = [f"{folder.name}/seed-{i}" for i in range(len(per_seed))]
+    seeds = [f"{folder.name}/seed-{first_seed + i}" for i in range(len(per_seed))]
     stat = lambda mean, se=0.0: {"mean": mean, "se": se, "n": len(per_seed)}  # noqa: E731
     sp = {
         "entries": len(per_seed),
@@ -146,6 +147,19 @@ def test_compare_evals_pairs_seeds_in_the_summarys_order(tmp_path):
     assert any(r.startswith("| C − B |") and "(seed counts differ)" in r for r in rows)
     out = run_compare("--against", "first", f"A={tmp_path / 'a'}", f"B={tmp_path / 'b'}", f"C={tmp_path / 'c'}")
     assert any(r.startswith("| C − A |") for r in out.stdout.splitlines())
+
+
+def test_compare_evals_pairs_only_the_same_seeds(tmp_path):
+    # Seeds 3-5 against seeds 0-2: other seeds, so no paired differences, only the means'.
+    write_eval(tmp_path / "a", [1.0, 2.0, 3.0], 0.3)
+    write_eval(tmp_path / "b", [2.0, 2.0, 5.0], 0.4, first_seed=3)
+    write_eval(tmp_path / "c", [3.0, 3.0, 6.0], 0.4, first_seed=3)
+    out = run_compare(f"A={tmp_path / 'a'}", f"B={tmp_path / 'b'}", f"C={tmp_path / 'c'}")
+    assert out.returncode == 0, out.stderr
+    rows = out.stdout.splitlines()
+    assert "| B − A | +1.00 (0.50, 2.0 SE) | (other seeds: unpaired) | – |" in rows
+    # C and B hold the same seeds (3, 4, 5) in different folders: paired seed by seed.
+    assert "| C − B | +1.00 (0.57, 1.8 SE) | +1.00, +1.00, +1.00 | +1.00 ± 0.00 |" in rows
 
 
 def test_compare_evals_names_a_folder_that_is_not_an_evaluation(tmp_path):
