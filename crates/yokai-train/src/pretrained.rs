@@ -42,6 +42,9 @@ const SHIPPED: &[(&str, u64, &[u8])] = shipped!(
     ("obl-cpu-level-4", 0),
     ("obl-cpu-level-4", 1),
     ("obl-cpu-level-4", 2),
+    ("obl-cpu-level-5", 0),
+    ("obl-cpu-level-5", 1),
+    ("obl-cpu-level-5", 2),
 );
 
 /// `pretrained.toml`: how each preset's agents were made and what they score.
