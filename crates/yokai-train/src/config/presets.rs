@@ -18,6 +18,7 @@ pub const PRESETS: &[(&str, &str)] = presets!(
     "quick-op",
     "obl-quick",
     "obl-cpu",
+    "obl-cpu-long",
     "obl-9c-2p",
     "cpu",
     "cpu-fast",
@@ -111,5 +112,23 @@ mod tests {
             e.contains("qiuck") && e.contains("not a preset (quick, "),
             "{e}"
         );
+    }
+
+    /// `obl-cpu-long` is the recipe measured on `obl-cpu` by overrides (the chains of
+    /// docs/results/obl-belief-all-seeds.md and obl-held-out-seeds.md): nothing else differs,
+    /// so those measurements are the preset's.
+    #[test]
+    fn obl_cpu_long_is_obl_cpu_with_the_measured_overrides() {
+        let overrides: Vec<Override> = [
+            "ppo.total_steps=12000000",
+            "ppo.lr=1e-3",
+            "obl.belief_of=all-seeds",
+        ]
+        .iter()
+        .map(|o| o.parse().unwrap())
+        .collect();
+        let (measured, _) = TrainConfig::named("obl-cpu", &overrides).unwrap();
+        let (long, _) = TrainConfig::named("obl-cpu-long", &[]).unwrap();
+        assert_eq!(long, measured);
     }
 }
