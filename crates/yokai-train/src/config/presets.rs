@@ -131,4 +131,78 @@ mod tests {
         let (long, _) = TrainConfig::named("obl-cpu-long", &[]).unwrap();
         assert_eq!(long, measured);
     }
+
+    /// The paper presets (every preset on the paper's network) train with the paper's PPO
+    /// settings (docs/spec/training.md, "PPO settings" and the algorithms' table) and play
+    /// by the trained distribution: the CPU levers stay in presets of their own. Written
+    /// out field by field rather than from `PpoConfig::default()`, so that a changed
+    /// default shows here too and a new field has to be placed.
+    #[test]
+    fn the_paper_presets_keep_the_papers_ppo_settings() {
+        use crate::config::{ActConfig, EndForm, NetworkPreset, PpoConfig};
+        let mut checked = Vec::new();
+        for (name, text) in PRESETS {
+            let c = TrainConfig::from_toml_str(text, name).unwrap();
+            if c.network.preset != NetworkPreset::Paper {
+                continue;
+            }
+            let players = c.game.split('-').nth(1).unwrap();
+            // HE: α 0.07 and λ 0.85; IPPO and OP: α 0.05 with 2 players, 0.01 with 3 or 4.
+            let (entropy_coef, gae_lambda) = match (c.algorithm.name.as_str(), players) {
+                ("he", _) => (0.07, 0.85),
+                (_, "2p") => (0.05, 0.95),
+                _ => (0.01, 0.95),
+            };
+            // 256 games for OBL; the paper ran HE with 4 players on 512.
+            let num_envs = match (c.algorithm.name.as_str(), *name) {
+                ("obl", _) => 256,
+                (_, "he-9c-4p") => 512,
+                _ => 1024,
+            };
+            let paper = PpoConfig {
+                num_envs,
+                rollout_steps: 128,
+                total_steps: 1_000_000_000,
+                lr: 3e-4,
+                anneal_lr: true,
+                lr_hold: 0.0,
+                adam_eps: 1e-5,
+                gamma: 0.99,
+                gae_lambda,
+                clip: 0.2,
+                value_clip: 0.2,
+                value_coef: 0.5,
+                entropy_coef,
+                entropy_final: None,
+                entropy_normalized: false,
+                end_entropy_coef: 0.0,
+                end_lookahead: 0.0,
+                end_lookahead_form: EndForm::Expected,
+                belief_aux: 0.0,
+                max_grad_norm: 0.5,
+                epochs: 4,
+                minibatches: 4,
+                shaping: 1.0,
+                shaping_fraction: 1.0,
+                normalize_advantages: true,
+                cluster_shaping: 0.0,
+            };
+            assert_eq!(c.ppo, paper, "{name}");
+            assert_eq!(c.act, ActConfig::default(), "{name}");
+            checked.push(*name);
+        }
+        // The main table's presets are among them (none left the paper's network).
+        for name in [
+            "ippo-9c-2p",
+            "he-9c-2p",
+            "op-9c-2p",
+            "obl-9c-2p",
+            "he-9c-4p",
+        ] {
+            assert!(
+                checked.contains(&name),
+                "{name} is not on the paper's network"
+            );
+        }
+    }
 }
