@@ -146,11 +146,11 @@ mod tests {
             if c.network.preset != NetworkPreset::Paper {
                 continue;
             }
-            let players = c.game.split('-').nth(1).unwrap();
+            let players = c.game_config().unwrap().players();
             // HE: α 0.07 and λ 0.85; IPPO and OP: α 0.05 with 2 players, 0.01 with 3 or 4.
             let (entropy_coef, gae_lambda) = match (c.algorithm.name.as_str(), players) {
                 ("he", _) => (0.07, 0.85),
-                (_, "2p") => (0.05, 0.95),
+                (_, 2) => (0.05, 0.95),
                 _ => (0.01, 0.95),
             };
             // 256 games for OBL; the paper ran HE with 4 players on 512.
