@@ -203,8 +203,8 @@ fn open<E: Encoder, M: Recurrent>(request: &RunRequest<'_>) -> Result<Trainer<E,
     Ok(t)
 }
 
-/// An OBL run's belief curve, `belief.jsonl`. The belief is trained anew, identically, on
-/// every start and resume: its curve is written each time.
+/// An OBL run's belief curve, `belief.jsonl`, written at every start and resume (a resume
+/// reads the curve from its checkpoint, or trains the belief again identically).
 fn write_belief_curve<E: Encoder, M: Recurrent>(
     trainer: &Trainer<E, M>,
     dir: &Path,

@@ -273,7 +273,7 @@ fn the_sharded_acting_step_is_the_whole_one() {
 
 /// Exact resume, for Other-Play (per-seat symmetries drawn by episode) and for Off-Belief
 /// Learning: level 1 (beliefs and level-0 moves drawn by step) and level 2 (the belief
-/// trained on level 1 anew at resume, memories rebuilt from the saved histories).
+/// read from the checkpoint, memories rebuilt from the saved histories).
 #[test]
 fn resume_continues_exactly_like_an_uninterrupted_run() {
     let tmp = tempdir("resume");
@@ -331,6 +331,117 @@ fn resume_continues_exactly_like_an_uninterrupted_run() {
         });
         assert_eq!(whole, resumed, "obl level {}", config.obl.level);
     }
+}
+
+/// An OBL level ≥ 2 checkpoint keeps the trained belief model and its curve, and a resume
+/// reads them instead of training the belief again (minutes per resume at the CPU
+/// presets): an untrained belief put in its place changes how the run continues; a
+/// checkpoint without them (written before 2026-12-03) trains the belief again and still
+/// continues exactly; a broken belief section or curve is refused, naming the file.
+#[test]
+fn an_obl_checkpoint_keeps_its_belief_and_a_resume_reads_it() {
+    use burn::module::Module;
+    let tmp = tempdir("belief-kept");
+    let dir = tmp.path();
+    let mut config = tiny(SymmetrySet::None, 4);
+    config.obl.level = 1;
+    let level_one = dir.join("level-1.ykp");
+    one_thread(|| {
+        let mut t = Trainer::<MlpEncoder>::new(config.clone(), 3).unwrap();
+        t.update().unwrap();
+        t.policy().write_atomic(&level_one).unwrap();
+    });
+    config.obl.level = 2;
+    config.obl.previous = Some(level_one);
+    config.obl.belief_updates = 3;
+    config.obl.belief_hidden = 8;
+    let (whole, checkpoint, curve) = one_thread(|| {
+        let mut t = Trainer::<MlpEncoder>::new(config.clone(), 9).unwrap();
+        t.update().unwrap();
+        t.update().unwrap();
+        let checkpoint = t.checkpoint();
+        let curve = t.belief_curve().unwrap().to_vec();
+        t.update().unwrap();
+        t.update().unwrap();
+        (t.parameters(), checkpoint, curve)
+    });
+    let names: Vec<&str> = checkpoint.sections.iter().map(|(n, _)| &n[..]).collect();
+    assert_eq!(
+        names,
+        ["model", "optimizer", "state", "belief", "belief_curve"]
+    );
+    let resume = |file: &Container, name: &str| {
+        let path = dir.join(name);
+        file.write_atomic(&path).unwrap();
+        one_thread(|| {
+            let mut t = Trainer::<MlpEncoder>::resume(&path)?;
+            let curve = t.belief_curve().unwrap().to_vec();
+            t.update()?;
+            t.update()?;
+            Ok::<_, TrainError>((t.parameters(), curve))
+        })
+    };
+    let with = |name: &str, data: Vec<u8>| {
+        let mut file = checkpoint.clone();
+        file.sections.iter_mut().find(|(n, _)| n == name).unwrap().1 = data;
+        file
+    };
+    assert_eq!(
+        resume(&checkpoint, "kept.ykc").unwrap(),
+        (whole.clone(), curve.clone())
+    );
+    let mut old = checkpoint.clone();
+    old.sections.truncate(3);
+    assert_eq!(
+        resume(&old, "old.ykc").unwrap(),
+        (whole.clone(), curve.clone())
+    );
+
+    let game = config.game_config().unwrap();
+    let untrained =
+        yokai_train::obl::model::BeliefModel::new(&game, 8, 1, &yokai_train::default_device());
+    let bytes = untrained.into_record().into_bytes().unwrap().to_vec();
+    let (params, read_curve) = resume(&with("belief", bytes), "untrained.ykc").unwrap();
+    assert_eq!(read_curve, curve);
+    assert_ne!(params, whole, "the untrained belief was not the one used");
+
+    // The curve: 32 bytes per update, the first f64 the cross-entropy.
+    let saved = checkpoint.section(dir, "belief_curve").unwrap();
+    assert_eq!(saved.len(), 3 * 32);
+    let mut bytes = saved.to_vec();
+    bytes[..8].copy_from_slice(&(curve[0].cross_entropy + 1.0).to_le_bytes());
+    let mut edited = curve.clone();
+    edited[0].cross_entropy += 1.0;
+    let (params, read_curve) = resume(&with("belief_curve", bytes), "edited.ykc").unwrap();
+    assert_eq!(
+        (params, read_curve),
+        (whole, edited),
+        "the curve is read as saved"
+    );
+
+    let short = saved[..2 * 32].to_vec();
+    let message = resume(&with("belief_curve", short), "short.ykc")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        message.contains("short.ykc") && message.contains("obl.belief_updates = 3"),
+        "{message}"
+    );
+    let message = resume(&with("belief", vec![7; 40]), "broken.ykc")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        message.contains("broken.ykc") && message.contains("OBL belief model"),
+        "{message}"
+    );
+    let mut wider = config.clone();
+    wider.obl.belief_hidden = 16;
+    let other = one_thread(|| Trainer::<MlpEncoder>::new(wider, 9).unwrap().checkpoint());
+    let foreign = other.section(dir, "belief").unwrap().to_vec();
+    let message = resume(&with("belief", foreign), "foreign.ykc")
+        .unwrap_err()
+        .to_string();
+    assert!(message.contains("foreign.ykc"), "{message}");
 }
 
 /// An OBL level-2 run logs its belief model's training, one line per update, in

@@ -41,16 +41,35 @@ pub(crate) fn read_header(file: &Container, path: &Path) -> Result<FileHeader, T
 
 /// Load network weights, refusing any record whose tensors do not match the network.
 pub(crate) fn load_model<M: Module>(model: M, bytes: &[u8], path: &str) -> Result<M, TrainError> {
-    let unreadable = |source: Box<dyn std::error::Error + Send + Sync>| TrainError::Record {
-        path: path.to_string(),
-        what: "network",
-        source,
-    };
-    let bytes = with_current_names(bytes).map_err(|e| unreadable(e.into()))?;
-    let record = ModuleRecord::from_bytes(bytes).map_err(|e| unreadable(e.into()))?;
+    let bytes = with_current_names(bytes).map_err(|e| unreadable(path, "network", e.into()))?;
+    load_record(model, bytes, path, "network")
+}
+
+/// Load a module's record as it was written (no field renamed since), refusing one whose
+/// tensors do not match the module: e.g. the OBL belief model a checkpoint keeps (`what`
+/// names it in the error).
+pub(crate) fn load_record<M: Module>(
+    model: M,
+    bytes: Bytes,
+    path: &str,
+    what: &'static str,
+) -> Result<M, TrainError> {
+    let record = ModuleRecord::from_bytes(bytes).map_err(|e| unreadable(path, what, e.into()))?;
     model
         .try_load_record(record)
-        .map_err(|e| unreadable(e.into()))
+        .map_err(|e| unreadable(path, what, e.into()))
+}
+
+fn unreadable(
+    path: &str,
+    what: &'static str,
+    source: Box<dyn std::error::Error + Send + Sync>,
+) -> TrainError {
+    TrainError::Record {
+        path: path.to_string(),
+        what,
+        source,
+    }
 }
 
 /// The network's fields renamed since files were first written, as tensor path prefixes

@@ -21,7 +21,7 @@ pub struct OblConfig {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub previous: Option<std::path::PathBuf>,
     /// Levels ≥ 2: updates of the belief model on the previous level's self-play (16 games
-    /// × 16 steps each) before PPO starts; redone identically on resume.
+    /// × 16 steps each) before PPO starts; kept in checkpoints, so a resume reads it.
     pub belief_updates: u64,
     /// Levels ≥ 2: width of the belief model's memory.
     pub belief_hidden: usize,

@@ -58,7 +58,7 @@ pub struct BeliefTrainConfig {
 
 impl BeliefTrainConfig {
     /// 16 games × 16 steps per update in 2 minibatches, lr 3·10⁻³ annealed over `updates`:
-    /// what OBL's levels ≥ 2 train their belief with (small enough to redo at resume).
+    /// what OBL's levels ≥ 2 train their belief with.
     pub fn small(hidden: usize, updates: u64) -> BeliefTrainConfig {
         BeliefTrainConfig {
             num_envs: 16,

@@ -40,5 +40,5 @@ pub(crate) mod targets;
 
 pub use belief::{first_hand, first_hand_slots, sample_first_hand_consistent};
 pub use continuation::{continue_all, continue_fictitiously, Continuation};
-pub(crate) use previous::PreviousLevel;
+pub(crate) use previous::{PreviousLevel, SavedBelief, BELIEF_CURVE_SECTION, BELIEF_SECTION};
 pub(crate) use targets::{targets, OblStep, StepInputs};

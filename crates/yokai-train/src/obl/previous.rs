@@ -4,18 +4,24 @@
 //!
 //! **The belief** conditions on the acting seat's real history: every row's belief memory
 //! steps on the row's real observation at every rollout step ([`PreviousLevel::observe`])
-//! and is saved in checkpoints, so a resume continues it exactly.
+//! and is saved in checkpoints, so a resume continues it exactly. The trained belief model
+//! and its curve are saved there too ([`SavedBelief`]): a resume loads them instead of
+//! training the belief again (minutes per resume at the CPU presets' 10,000 updates).
 
 use super::belief::first_hand_slots;
 use super::learn::{BeliefStats, BeliefTrainConfig, BeliefTrainer, LevelBelow};
 use super::model::BeliefModel;
 use crate::actor::Actor;
+use crate::artifact::load_record;
 use crate::config::{BeliefOf, TrainConfig};
 use crate::error::TrainError;
 use crate::policy::TrainedPolicy;
 use crate::tensor::{tensor2, to_vec};
+use burn::module::Module;
 use burn::prelude::*;
+use burn::tensor::Bytes;
 use rand_chacha::ChaCha8Rng;
+use std::path::Path;
 use yokai_engine::{derive_seed, Colour, Config, Part, Seat};
 use yokai_vec::Encoding;
 
@@ -33,17 +39,31 @@ pub(crate) struct PreviousLevel {
     pub memory: Vec<f32>,
 }
 
+/// A belief model trained before, as a checkpoint keeps it: the model's record (burn's
+/// format) and its training curve (`CURVE_ENTRY` bytes per update), read back from the
+/// checkpoint `path`.
+pub(crate) struct SavedBelief<'a> {
+    pub path: &'a Path,
+    pub model: &'a [u8],
+    pub curve: &'a [u8],
+}
+
+/// The checkpoint sections of the belief model and of its curve.
+pub(crate) const BELIEF_SECTION: &str = "belief";
+pub(crate) const BELIEF_CURVE_SECTION: &str = "belief_curve";
+
 impl PreviousLevel {
-    /// Load `obl.previous` (seed N's `seed-N` inside it where there is one) and train the
-    /// belief on its self-play (on every seed run's in turn under `obl.belief_of =
-    /// "all-seeds"`), deterministically in `seed`; its memory of the run's `rows` rows
-    /// starts at zero.
+    /// Load `obl.previous` (seed N's `seed-N` inside it where there is one) and the belief:
+    /// `saved` where a checkpoint kept it, else trained on the level's self-play (on every
+    /// seed run's in turn under `obl.belief_of = "all-seeds"`), deterministically in
+    /// `seed`; its memory of the run's `rows` rows starts at zero.
     pub fn load(
         config: &TrainConfig,
         game: &Config,
         seed: u64,
         rows: usize,
         device: &Device,
+        saved: Option<SavedBelief<'_>>,
     ) -> Result<PreviousLevel, TrainError> {
         let given = config
             .obl
@@ -51,6 +71,15 @@ impl PreviousLevel {
             .as_ref()
             .expect("validated: levels ≥ 2 name their previous level");
         let policy = load_below(&crate::artifact::names::seed_path(given, seed), game)?;
+        if let Some(saved) = saved {
+            let (belief, belief_curve) = saved.read(config, game, device)?;
+            return Ok(PreviousLevel {
+                policy,
+                memory: vec![0.0; rows * belief.hidden_size()],
+                belief,
+                belief_curve,
+            });
+        }
         let belief_config =
             BeliefTrainConfig::small(config.obl.belief_hidden, config.obl.belief_updates);
         let population = match config.obl.belief_of {
@@ -95,6 +124,18 @@ impl PreviousLevel {
             belief,
             belief_curve,
         })
+    }
+
+    /// The checkpoint sections that keep the trained belief ([`SavedBelief`]).
+    pub fn belief_sections(&self) -> [(String, Vec<u8>); 2] {
+        let model = (self.belief.clone().into_record().into_bytes())
+            .expect("an in-memory record always serialises")
+            .to_vec();
+        let curve = self.belief_curve.iter().flat_map(curve_entry).collect();
+        [
+            (BELIEF_SECTION.into(), model),
+            (BELIEF_CURVE_SECTION.into(), curve),
+        ]
     }
 
     /// The figures reported: slot-weighted means over the last `REPORTED_UPDATES` updates
@@ -176,6 +217,65 @@ impl PreviousLevel {
         let states = tensor2(states, [n, hb], dev);
         self.belief
             .sample(&game, states, &obs, &adjacency, &first, rng)
+    }
+}
+
+impl SavedBelief<'_> {
+    /// The belief model (of `obl.belief_hidden` units for `game`) and its curve, refused
+    /// unless the record fits that model and the curve has `obl.belief_updates` updates.
+    fn read(
+        &self,
+        config: &TrainConfig,
+        game: &Config,
+        device: &Device,
+    ) -> Result<(BeliefModel, Vec<BeliefStats>), TrainError> {
+        let shown = self.path.display().to_string();
+        let empty = BeliefModel::new(game, config.obl.belief_hidden, 0, device);
+        let model = Bytes::from_bytes_vec(self.model.to_vec());
+        let belief = load_record(empty, model, &shown, "OBL belief model")?;
+        let entries = self.curve.len() / CURVE_ENTRY;
+        if self.curve.len() % CURVE_ENTRY != 0 || entries as u64 != config.obl.belief_updates {
+            return Err(TrainError::Mismatch {
+                path: shown,
+                message: format!(
+                    "its belief curve has {} bytes, {CURVE_ENTRY} per update, and its config \
+                     trains the belief for obl.belief_updates = {}",
+                    self.curve.len(),
+                    config.obl.belief_updates
+                ),
+            });
+        }
+        let curve = self.curve.chunks_exact(CURVE_ENTRY).map(read_curve_entry);
+        Ok((belief, curve.collect()))
+    }
+}
+
+/// Bytes of one update of the belief curve in a checkpoint: cross-entropy, baseline and KL
+/// as f64 and the slots as u64, little-endian. Binary, so that a resumed run's curve (and
+/// its `belief.jsonl`) is the saved one to the bit; JSON would round some figures' last bit.
+const CURVE_ENTRY: usize = 32;
+
+fn curve_entry(s: &BeliefStats) -> [u8; CURVE_ENTRY] {
+    let mut out = [0; CURVE_ENTRY];
+    let values = [
+        s.cross_entropy.to_bits(),
+        s.uniform_cross_entropy.to_bits(),
+        s.uniform_kl.to_bits(),
+        s.slots as u64,
+    ];
+    for (chunk, v) in out.chunks_exact_mut(8).zip(values) {
+        chunk.copy_from_slice(&v.to_le_bytes());
+    }
+    out
+}
+
+fn read_curve_entry(bytes: &[u8]) -> BeliefStats {
+    let word = |k: usize| u64::from_le_bytes(bytes[8 * k..][..8].try_into().expect("8 bytes"));
+    BeliefStats {
+        cross_entropy: f64::from_bits(word(0)),
+        uniform_cross_entropy: f64::from_bits(word(1)),
+        uniform_kl: f64::from_bits(word(2)),
+        slots: word(3) as usize,
     }
 }
 

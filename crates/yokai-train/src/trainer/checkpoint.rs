@@ -7,6 +7,7 @@ use crate::config::TrainConfig;
 use crate::device::default_device;
 use crate::error::TrainError;
 use crate::network::{Encoder, Recurrent};
+use crate::obl::{SavedBelief, BELIEF_CURVE_SECTION, BELIEF_SECTION};
 use crate::tensor::parameters;
 use burn::module::Module;
 use burn::prelude::*;
@@ -72,16 +73,18 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         }
     }
 
-    /// Everything needed to continue the run exactly.
+    /// Everything needed to continue the run exactly: with OBL ≥ 2 also the trained belief
+    /// model and its curve, so that a resume need not train it again.
     pub fn checkpoint(&self) -> Container {
         let optim = self
             .optim
             .into_bytes()
             .expect("an in-memory optimiser state always serialises")
             .to_vec();
+        let belief = self.previous.iter().flat_map(|p| p.belief_sections());
         Container {
             header: serde_json::to_string_pretty(&self.header("checkpoint")).expect("json"),
-            sections: vec![
+            sections: [
                 ("model".into(), self.model_bytes()),
                 ("optimizer".into(), optim),
                 (
@@ -96,7 +99,10 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
                     })
                     .expect("loop state serialises"),
                 ),
-            ],
+            ]
+            .into_iter()
+            .chain(belief)
+            .collect(),
         }
     }
 
@@ -132,7 +138,17 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
                 ),
             });
         }
-        let mut trainer = Trainer::<E, M>::fresh(config, header.seed, infer_device)?;
+        // Checkpoints written before 2026-12-03 keep no belief: it is trained again.
+        let saved = (file.sections.iter().any(|(name, _)| name == BELIEF_SECTION))
+            .then(|| -> Result<_, TrainError> {
+                Ok(SavedBelief {
+                    path,
+                    model: file.section(path, BELIEF_SECTION)?,
+                    curve: file.section(path, BELIEF_CURVE_SECTION)?,
+                })
+            })
+            .transpose()?;
+        let mut trainer = Trainer::<E, M>::fresh(config, header.seed, infer_device, saved)?;
         let shown = path.display().to_string();
         trainer.model = load_model(trainer.model, file.section(path, "model")?, &shown)?;
         let optim = file.section(path, "optimizer")?.to_vec();

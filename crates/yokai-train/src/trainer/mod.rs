@@ -34,7 +34,7 @@ use crate::config::TrainConfig;
 use crate::device::default_device;
 use crate::error::TrainError;
 use crate::network::{ActorCritic, Encoder, GruCell, Recurrent};
-use crate::obl::PreviousLevel;
+use crate::obl::{PreviousLevel, SavedBelief};
 use addons::AddOns;
 use burn::optim::{AdamConfig, ModuleOptimizer};
 use burn::prelude::*;
@@ -149,7 +149,7 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         seed: u64,
         infer_device: Device,
     ) -> Result<Trainer<E, M>, TrainError> {
-        let mut trainer = Trainer::fresh(config.warm_started(), seed, infer_device)?;
+        let mut trainer = Trainer::fresh(config.warm_started(), seed, infer_device, None)?;
         if let Some(path) = &trainer.config.run.init_from {
             let model = trainer.model.clone();
             trainer.model =
@@ -159,11 +159,13 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
     }
 
     /// A run of `config` with freshly initialised weights (`run.init_from` not applied:
-    /// a resumed run takes its weights from its checkpoint).
+    /// a resumed run takes its weights from its checkpoint), and for an OBL level ≥ 2 the
+    /// belief `saved` in its checkpoint, else one trained now.
     fn fresh(
         config: TrainConfig,
         seed: u64,
         infer_device: Device,
+        saved: Option<SavedBelief<'_>>,
     ) -> Result<Trainer<E, M>, TrainError> {
         config.validate("config")?;
         let game = config.game_config()?;
@@ -177,6 +179,7 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
                 seed,
                 actor.rows(),
                 &infer_device,
+                saved,
             )?)
         } else {
             None
