@@ -271,6 +271,25 @@ fn the_sharded_acting_step_is_the_whole_one() {
     }
 }
 
+/// Tiny OBL configs of level 1 and of level 2 above it: level 1 trained one update and
+/// written to `dir/level-1.ykp`, level 2's belief 3 updates of an 8-unit model.
+fn tiny_obl_levels(dir: &std::path::Path) -> (TrainConfig, TrainConfig) {
+    let mut one = tiny(SymmetrySet::None, 4);
+    one.obl.level = 1;
+    let level_one = dir.join("level-1.ykp");
+    one_thread(|| {
+        let mut t = Trainer::<MlpEncoder>::new(one.clone(), 3).unwrap();
+        t.update().unwrap();
+        t.policy().write_atomic(&level_one).unwrap();
+    });
+    let mut two = one.clone();
+    two.obl.level = 2;
+    two.obl.previous = Some(level_one);
+    two.obl.belief_updates = 3;
+    two.obl.belief_hidden = 8;
+    (one, two)
+}
+
 /// Exact resume, for Other-Play (per-seat symmetries drawn by episode) and for Off-Belief
 /// Learning: level 1 (beliefs and level-0 moves drawn by step) and level 2 (the belief
 /// read from the checkpoint, memories rebuilt from the saved histories).
@@ -278,19 +297,7 @@ fn the_sharded_acting_step_is_the_whole_one() {
 fn resume_continues_exactly_like_an_uninterrupted_run() {
     let tmp = tempdir("resume");
     let dir = tmp.path();
-    let mut obl = tiny(SymmetrySet::None, 4);
-    obl.obl.level = 1;
-    let level_one = dir.join("level-1.ykp");
-    one_thread(|| {
-        let mut t = Trainer::<MlpEncoder>::new(obl.clone(), 3).unwrap();
-        t.update().unwrap();
-        t.policy().write_atomic(&level_one).unwrap();
-    });
-    let mut obl2 = obl.clone();
-    obl2.obl.level = 2;
-    obl2.obl.previous = Some(level_one);
-    obl2.obl.belief_updates = 3;
-    obl2.obl.belief_hidden = 8;
+    let (obl, obl2) = tiny_obl_levels(dir);
     let named = |names| {
         let mut c = tiny(SymmetrySet::Both, 4);
         c.network.colours = names;
@@ -343,18 +350,7 @@ fn an_obl_checkpoint_keeps_its_belief_and_a_resume_reads_it() {
     use burn::module::Module;
     let tmp = tempdir("belief-kept");
     let dir = tmp.path();
-    let mut config = tiny(SymmetrySet::None, 4);
-    config.obl.level = 1;
-    let level_one = dir.join("level-1.ykp");
-    one_thread(|| {
-        let mut t = Trainer::<MlpEncoder>::new(config.clone(), 3).unwrap();
-        t.update().unwrap();
-        t.policy().write_atomic(&level_one).unwrap();
-    });
-    config.obl.level = 2;
-    config.obl.previous = Some(level_one);
-    config.obl.belief_updates = 3;
-    config.obl.belief_hidden = 8;
+    let (_, config) = tiny_obl_levels(dir);
     let (whole, checkpoint, curve) = one_thread(|| {
         let mut t = Trainer::<MlpEncoder>::new(config.clone(), 9).unwrap();
         t.update().unwrap();
