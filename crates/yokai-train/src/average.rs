@@ -13,7 +13,6 @@ use crate::device::default_device;
 use crate::error::TrainError;
 use crate::network::{for_network, ActorCritic, Encoder, NetworkJob, Recurrent};
 use crate::tensor::{parameters, with_parameters};
-use burn::module::Module;
 use std::path::{Path, PathBuf};
 
 /// The policy files of `run` (one seed's run directory) that cover the last `fraction` of
@@ -146,11 +145,7 @@ impl NetworkJob for Average<'_> {
         let n = self.files.len() as f64;
         let means: Vec<f32> = sums.iter().map(|s| (s / n) as f32).collect();
         let model = with_parameters(last.expect("at least one file"), &means, &device);
-        Ok(model
-            .into_record()
-            .into_bytes()
-            .expect("an in-memory record always serialises")
-            .to_vec())
+        Ok(crate::artifact::record_bytes(model))
     }
 }
 

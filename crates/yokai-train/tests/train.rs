@@ -343,7 +343,7 @@ fn resume_continues_exactly_like_an_uninterrupted_run() {
 /// An OBL level ≥ 2 checkpoint keeps the trained belief model and its curve, and a resume
 /// reads them instead of training the belief again (minutes per resume at the CPU
 /// presets): an untrained belief put in its place changes how the run continues; a
-/// checkpoint without them (written before 2026-12-03) trains the belief again and still
+/// checkpoint without them (as before 23b00ab, 2026-12-02) trains the belief again and still
 /// continues exactly; a broken belief section or curve is refused, naming the file.
 #[test]
 fn an_obl_checkpoint_keeps_its_belief_and_a_resume_reads_it() {
@@ -442,7 +442,8 @@ fn an_obl_checkpoint_keeps_its_belief_and_a_resume_reads_it() {
 
 /// An OBL level-2 run logs its belief model's training, one line per update, in
 /// `belief.jsonl`: the figures the run reports are the slot-weighted mean of the last 20
-/// lines, and a resume (which retrains the belief identically) writes the same file.
+/// lines, and a resume (which reads the belief and its curve from the checkpoint) writes the
+/// same file.
 #[test]
 fn an_obl_run_logs_its_belief_curve() {
     let tmp = tempdir("belief-curve");

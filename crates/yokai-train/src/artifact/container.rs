@@ -36,15 +36,19 @@ fn section_sum(version: u32, name: &[u8], data: &[u8]) -> u64 {
 }
 
 impl Container {
-    pub fn section(&self, path: &Path, name: &str) -> Result<&[u8], FileError> {
-        self.sections
-            .iter()
+    /// The section `name`, if the file has one (for sections only some files hold).
+    pub fn get(&self, name: &str) -> Option<&[u8]> {
+        (self.sections.iter())
             .find(|(n, _)| n == name)
             .map(|(_, d)| d.as_slice())
-            .ok_or_else(|| FileError::Missing {
-                path: path.to_path_buf(),
-                section: name.to_string(),
-            })
+    }
+
+    /// The section `name`, which the file must hold.
+    pub fn section(&self, path: &Path, name: &str) -> Result<&[u8], FileError> {
+        self.get(name).ok_or_else(|| FileError::Missing {
+            path: path.to_path_buf(),
+            section: name.to_string(),
+        })
     }
 
     pub fn to_bytes(&self) -> Vec<u8> {

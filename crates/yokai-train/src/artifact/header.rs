@@ -60,6 +60,16 @@ pub(crate) fn load_record<M: Module>(
         .map_err(|e| unreadable(path, what, e.into()))
 }
 
+/// A module's parameters in burn's record format: what the files' network (and belief)
+/// sections hold, and what [`load_model`] and [`load_record`] read back.
+pub(crate) fn record_bytes<M: Module>(module: M) -> Vec<u8> {
+    module
+        .into_record()
+        .into_bytes()
+        .expect("an in-memory record always serialises")
+        .to_vec()
+}
+
 fn unreadable(
     path: &str,
     what: &'static str,

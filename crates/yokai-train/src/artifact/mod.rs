@@ -10,4 +10,4 @@ pub mod tensorboard;
 
 pub use container::Container;
 pub use header::{check_game, FileHeader};
-pub(crate) use header::{load_model, load_record, read_header, PolicyFile};
+pub(crate) use header::{load_model, load_record, read_header, record_bytes, PolicyFile};

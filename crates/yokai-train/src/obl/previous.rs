@@ -12,12 +12,11 @@ use super::belief::first_hand_slots;
 use super::learn::{BeliefStats, BeliefTrainConfig, BeliefTrainer, LevelBelow};
 use super::model::BeliefModel;
 use crate::actor::Actor;
-use crate::artifact::load_record;
+use crate::artifact::{load_record, record_bytes};
 use crate::config::{BeliefOf, TrainConfig};
 use crate::error::TrainError;
 use crate::policy::TrainedPolicy;
 use crate::tensor::{tensor2, to_vec};
-use burn::module::Module;
 use burn::prelude::*;
 use burn::tensor::Bytes;
 use rand_chacha::ChaCha8Rng;
@@ -128,9 +127,7 @@ impl PreviousLevel {
 
     /// The checkpoint sections that keep the trained belief ([`SavedBelief`]).
     pub fn belief_sections(&self) -> [(String, Vec<u8>); 2] {
-        let model = (self.belief.clone().into_record().into_bytes())
-            .expect("an in-memory record always serialises")
-            .to_vec();
+        let model = record_bytes(self.belief.clone());
         let curve = self.belief_curve.iter().flat_map(curve_entry).collect();
         [
             (BELIEF_SECTION.into(), model),
@@ -233,8 +230,7 @@ impl SavedBelief<'_> {
         let empty = BeliefModel::new(game, config.obl.belief_hidden, 0, device);
         let model = Bytes::from_bytes_vec(self.model.to_vec());
         let belief = load_record(empty, model, &shown, "OBL belief model")?;
-        let entries = self.curve.len() / CURVE_ENTRY;
-        if self.curve.len() % CURVE_ENTRY != 0 || entries as u64 != config.obl.belief_updates {
+        if self.curve.len() as u64 != CURVE_ENTRY as u64 * config.obl.belief_updates {
             return Err(TrainError::Mismatch {
                 path: shown,
                 message: format!(

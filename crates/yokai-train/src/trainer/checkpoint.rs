@@ -2,7 +2,9 @@
 //! loop state, and continuing a run exactly from a checkpoint.
 
 use super::{optimizer, Trainer};
-use crate::artifact::{check_game, load_model, read_header, Container, FileHeader, PolicyFile};
+use crate::artifact::{
+    check_game, load_model, read_header, record_bytes, Container, FileHeader, PolicyFile,
+};
 use crate::config::TrainConfig;
 use crate::device::default_device;
 use crate::error::TrainError;
@@ -57,12 +59,7 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
 
     /// The network's parameters in burn's record format.
     pub fn model_bytes(&self) -> Vec<u8> {
-        self.model
-            .clone()
-            .into_record()
-            .into_bytes()
-            .expect("an in-memory record always serialises")
-            .to_vec()
+        record_bytes(self.model.clone())
     }
 
     /// The policy file's content: header and network, no optimiser or loop state.
@@ -138,16 +135,15 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
                 ),
             });
         }
-        // Checkpoints written before 2026-12-03 keep no belief: it is trained again.
-        let saved = (file.sections.iter().any(|(name, _)| name == BELIEF_SECTION))
-            .then(|| -> Result<_, TrainError> {
-                Ok(SavedBelief {
-                    path,
-                    model: file.section(path, BELIEF_SECTION)?,
-                    curve: file.section(path, BELIEF_CURVE_SECTION)?,
-                })
-            })
-            .transpose()?;
+        // Checkpoints from before 23b00ab (2026-12-02) keep no belief: it is trained again.
+        let saved = match file.get(BELIEF_SECTION) {
+            Some(model) => Some(SavedBelief {
+                path,
+                model,
+                curve: file.section(path, BELIEF_CURVE_SECTION)?,
+            }),
+            None => None,
+        };
         let mut trainer = Trainer::<E, M>::fresh(config, header.seed, infer_device, saved)?;
         let shown = path.display().to_string();
         trainer.model = load_model(trainer.model, file.section(path, "model")?, &shown)?;
