@@ -441,13 +441,13 @@ mod tests {
         assert_eq!(fast, obl);
     }
 
-    /// `quick` (the main job) says it is `cpu-fast` with a central critic at 7M steps, and
+    /// `quick` (the main job) says it is `cpu-fast` with a central critic at 10M steps, and
     /// `quick-op` that it is `quick` with Other-Play's symmetries; nothing else may drift.
     #[test]
     fn quick_is_cpu_fast_with_a_central_critic_and_quick_op_adds_the_symmetries() {
         let (fast, mut quick) = (preset("cpu-fast"), preset("quick"));
         assert_eq!(quick.network.critic, yokai_train::CriticInput::Central);
-        assert_eq!(quick.ppo.total_steps, 7_000_000);
+        assert_eq!(quick.ppo.total_steps, 10_000_000);
         let mut op = preset("quick-op");
         assert_eq!(op.algorithm.symmetries, yokai_train::SymmetrySet::Both);
         op.algorithm = quick.algorithm.clone();
