@@ -225,7 +225,7 @@ fn a_pretrained_agent_plays_beside_a_human_in_line_mode() {
     let all = text(&out);
     assert!(out.status.success(), "{all}");
     assert!(
-        all.contains("seat 1 (pretrained:quick/0 (END > 0.5)): observe card"),
+        all.contains("seat 1 (pretrained:quick/0 (END > 0.6, T = 0.25)): observe card"),
         "the agent played: {all}"
     );
     assert!(all.contains("game over after"), "{all}");
