@@ -3,8 +3,9 @@
 # Run from the repository root. Levels 1-3 ran on 2026-11-30 as
 #   YOKAI=/work/bin/yokai sh docs/results/data/obl-held-out/chain.sh
 # Level 4 ran on 2026-12-02 (LEVELS="4", from data/obl-chain-weights/held-out-level-3).
-# To continue: copy data/obl-chain-weights/held-out-level-4 to runs/obl-held/level-4, then
-#   LEVELS="5" sh docs/results/data/obl-held-out/chain.sh
+# Level 5 ran on 2026-12-06 (LEVELS="5", from data/obl-chain-weights/held-out-level-4).
+# To continue: copy data/obl-chain-weights/held-out-level-5 to runs/obl-held/level-5, then
+#   LEVELS="6" sh docs/results/data/obl-held-out/chain.sh
 # The same recipe is the preset obl-cpu-long: yokai train obl-cpu-long --levels L --seeds 3..6
 YOKAI=${YOKAI:-yokai}
 OUT=runs/obl-held
