@@ -7,6 +7,7 @@
 
 use crate::config::{ColourNames, TrainConfig};
 use crate::error::TrainError;
+use crate::seen::see_through;
 use std::ops::Range;
 use yokai_engine::{
     derive_seed, Action, Card, ColourLabels, Config, EpisodeRecord, Game, RecordedGame, Seat,
@@ -167,6 +168,12 @@ impl Actor {
         self.row_sym[row].0
     }
 
+    /// Every row's [`Actor::symmetry`], in row order: how each seat sees its game this
+    /// episode, for stepping networks on its states outside the batch (OBL).
+    pub fn symmetries(&self) -> Vec<Symmetry> {
+        self.row_sym.iter().map(|s| s.0).collect()
+    }
+
     /// Other-Play: each seat of game `env` draws its own symmetry for the game's current
     /// episode, a function of (seed, env, episode, seat).
     fn draw_symmetries(&mut self, env: usize) {
@@ -222,14 +229,7 @@ impl Actor {
                 continue;
             }
             as_float(&mut mask_f);
-            match self.encoding {
-                Encoding::Image(part, layout) => {
-                    sym.apply_image_in(&self.game, part, layout, o_in, o_out)
-                }
-                Encoding::Graph(part) => sym.apply_nodes(&self.game, part, o_in, o_out),
-                Encoding::None => Ok(()),
-            }
-            .expect("buffers sized from the same config");
+            see_through(sym, &self.game, self.encoding, o_in, o_out);
             sym.apply_mask(&self.game, &mask_f, m_out)
                 .expect("buffers sized from the same config");
         }

@@ -18,6 +18,26 @@ pub fn sample_legal(game: &yokai_engine::Game, logits: &[f32], rng: &mut impl Rn
     sample_row(logits, &mask, unit_draw(rng), false).0
 }
 
+/// [`sample_legal`] for a seat that sees its game through a symmetry: `logits` are in its
+/// view, so it samples over the view's legal actions (the true mask mapped) and returns the
+/// action mapped back to the true game. Through the identity it is [`sample_legal`], draw
+/// for draw.
+pub fn sample_seen(view: &crate::seen::SeenSeat, logits: &[f32], rng: &mut impl Rng) -> usize {
+    let sym = view.symmetry;
+    if sym.is_identity() {
+        return sample_legal(view.game, logits, rng);
+    }
+    let config = view.game.config();
+    let mut truth = vec![0f32; logits.len()];
+    view.game
+        .write_legal_mask(view.game.current_seat(), &mut truth);
+    let mut mask = vec![0f32; logits.len()];
+    sym.apply_mask(config, &truth, &mut mask)
+        .expect("a mask sized from the game's own config");
+    let seen = sample_row(logits, &mask, unit_draw(rng), false).0;
+    sym.inverse().apply_action_index(config, seen)
+}
+
 /// How far below the row's best legal logit an illegal action's logit is put: its
 /// probability is then below e⁻⁶⁰ (with ~760 actions, a total leak under 10⁻²³, far below
 /// f32 resolution), while `exp` stays in the normal range. Pushing illegal logits to
@@ -166,6 +186,57 @@ mod tests {
 
     fn t2(v: Vec<f32>, shape: [usize; 2]) -> Tensor<2> {
         Tensor::from_data(TensorData::new(v, shape), &Device::flex())
+    }
+
+    /// A seat seeing its game through a symmetry samples in its view and plays the true
+    /// game's action: with all its weight on one legal action of the view, it plays that
+    /// action mapped back, which is legal in the true game. Over games at random points of
+    /// random play (MOVE substeps among them, where a rotation moves the target cell), every
+    /// one of the 24 symmetries of 9c-2p, each legal view action.
+    #[test]
+    fn a_seat_seeing_through_a_symmetry_plays_its_views_choice_in_the_true_game() {
+        use crate::seen::SeenSeat;
+        use rand_chacha::rand_core::SeedableRng;
+        use yokai_engine::{Config, Game, Symmetry};
+        let config = Config::from_name("9c-2p").unwrap();
+        let symmetries = Symmetry::enumerate(&config, true, true, false);
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(4);
+        let (mut moved, mut checked) = (0, 0);
+        for d in 0..12u64 {
+            let mut game = Game::new(config, d);
+            for _ in 0..(d * 7 % 23) {
+                let legal = game.legal_actions(game.current_seat());
+                let pick = (rng.next_u64() % legal.len() as u64) as usize;
+                if legal[pick] != yokai_engine::Action::End {
+                    game.apply(legal[pick]).unwrap();
+                }
+            }
+            let n = config.num_actions();
+            let mut truth = vec![0f32; n];
+            game.write_legal_mask(game.current_seat(), &mut truth);
+            for &symmetry in &symmetries {
+                let mut view = vec![0f32; n];
+                symmetry.apply_mask(&config, &truth, &mut view).unwrap();
+                let seat = SeenSeat {
+                    game: &game,
+                    seat: game.current_seat(),
+                    symmetry,
+                };
+                for v in (0..n).filter(|&v| view[v] == 1.0).step_by(5) {
+                    let mut logits = vec![0f32; n];
+                    logits[v] = 100.0;
+                    let played = sample_seen(&seat, &logits, &mut rng);
+                    assert_eq!(truth[played], 1.0, "legal in the true game");
+                    assert_eq!(symmetry.apply_action_index(&config, played), v);
+                    moved += (played != v) as usize;
+                    checked += 1;
+                }
+            }
+        }
+        assert!(
+            checked > 800 && moved > 100,
+            "{checked} checked, {moved} moved"
+        );
     }
 
     /// The rollout gives rows with one legal action zero logits instead of running the

@@ -7,7 +7,8 @@
 //! Modules depend one way, each only on those above it in this list (CI checks that no two
 //! top-level modules import each other, directly or around a loop):
 //! - leaves: [`config`], [`device`], [`tensor`], [`init`], [`distribution`], [`gae`],
-//!   [`host_kernel`] (what the operations computed on the CPU host share);
+//!   [`host_kernel`] (what the operations computed on the CPU host share), [`seen`] (a
+//!   seat's observation through its Other-Play symmetry);
 //! - [`backend`] (devices by name), then [`error`] (every error a person reads);
 //! - [`artifact`]: files on disk (container, header, run-directory names, SafeTensors);
 //! - [`network`]: the actor-critics;
@@ -25,6 +26,7 @@ pub mod distribution;
 pub mod gae;
 pub mod host_kernel;
 pub mod init;
+pub mod seen;
 pub mod tensor;
 
 pub mod backend;

@@ -8,6 +8,7 @@ use crate::device::default_device;
 use crate::distribution::{decide_end_row, draw_row};
 use crate::error::TrainError;
 use crate::network::{for_network, ActorCritic, Encoder, GruCell, NetworkJob, Recurrent, SeatStep};
+use crate::seen::SeenSeat;
 use burn::prelude::*;
 use burn::tensor::TensorData;
 use rand_chacha::rand_core::SeedableRng;
@@ -30,9 +31,9 @@ trait LoadedNet: std::fmt::Debug + Send + Sync {
     fn hidden_size(&self) -> usize;
     fn recur(&self, obs: Tensor<2>, states: Tensor<2>, keep: Tensor<2>) -> Tensor<2>;
     fn policy_logits(&self, obs: Tensor<2>, states: Tensor<2>) -> Tensor<2>;
-    fn step_seats(
+    fn step_views(
         &self,
-        rows: &[(&Game, Seat)],
+        rows: &[SeenSeat],
         states: Vec<f32>,
         keep: Vec<f32>,
         device: &Device,
@@ -67,14 +68,14 @@ impl<E: Encoder + 'static, M: Recurrent + 'static> LoadedNet for ActorCritic<E, 
     fn policy_logits(&self, obs: Tensor<2>, states: Tensor<2>) -> Tensor<2> {
         ActorCritic::policy_logits(self, obs, states)
     }
-    fn step_seats(
+    fn step_views(
         &self,
-        rows: &[(&Game, Seat)],
+        rows: &[SeenSeat],
         states: Vec<f32>,
         keep: Vec<f32>,
         device: &Device,
     ) -> SeatStep {
-        ActorCritic::step_seats(self, rows, states, keep, device)
+        ActorCritic::step_views(self, rows, states, keep, device)
     }
     fn seat(&self, from: &TrainedPolicy, seed: u64) -> Box<dyn Policy> {
         Box::new(NetworkPolicy::new(self.clone(), from, seed))
@@ -272,7 +273,14 @@ impl TrainedPolicy {
     /// memory steps, and the actor runs for the seats whose turn it is. For callers that
     /// drive many seats of many games (the probe recorder, OBL's belief data and partners).
     pub fn step_seats(&self, rows: &[(&Game, Seat)], states: Vec<f32>, keep: Vec<f32>) -> SeatStep {
-        self.net.step_seats(rows, states, keep, &self.device)
+        let views: Vec<SeenSeat> = rows.iter().map(|&(g, s)| SeenSeat::plain(g, s)).collect();
+        self.step_views(&views, states, keep)
+    }
+
+    /// [`TrainedPolicy::step_seats`] for seats that see their games through a symmetry
+    /// each: the acting rows' logits are in the seat's view.
+    pub fn step_views(&self, rows: &[SeenSeat], states: Vec<f32>, keep: Vec<f32>) -> SeatStep {
+        self.net.step_views(rows, states, keep, &self.device)
     }
 
     /// One step of seat `seat`'s memory in `game` (from `state`; `keep` 0 starts a fresh

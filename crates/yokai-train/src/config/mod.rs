@@ -175,12 +175,6 @@ impl TrainConfig {
             );
         }
         if self.obl.level >= 1 {
-            if self.algorithm.symmetries != SymmetrySet::None {
-                return bad(
-                    "obl.level",
-                    "OBL trains without Other-Play symmetries: set algorithm.symmetries = \"none\"",
-                );
-            }
             if p.cluster_shaping > 0.0 {
                 return bad(
                     "ppo.cluster_shaping",
@@ -389,11 +383,9 @@ mod tests {
         let e = refused("[obl]\nlevel = 1\nprevious = \"runs/x\"\n", "x");
         assert!(e.contains("obl.previous"), "{e}");
         assert!(TrainConfig::from_toml_str("[obl]\nlevel = 3\nprevious = \"r\"\n", "x").is_ok());
-        let e = refused(
-            "[algorithm]\nsymmetries = \"colour\"\n[obl]\nlevel = 1\n",
-            "x",
-        );
-        assert!(e.contains("obl.level") && e.contains("symmetries"), "{e}");
+        // OBL with Other-Play: each seat sees the fictitious worlds through its symmetry too.
+        let both = "[algorithm]\nsymmetries = \"both\"\n[obl]\nlevel = 1\n";
+        assert!(TrainConfig::from_toml_str(both, "x").is_ok());
         let e = refused("[network]\ncritic = \"central\"\n[obl]\nlevel = 1\n", "x");
         assert!(e.contains("network.critic") && e.contains("local"), "{e}");
         let e = refused("[network]\ncritic = \"oracle\"\n", "x");

@@ -19,6 +19,7 @@ pub use trxl::TransformerXl;
 
 use crate::config::{ActionHead, CriticInput, EncoderKind, MemoryKind, NetworkConfig, TrainConfig};
 use crate::init::Init;
+use crate::seen::SeenSeat;
 use burn::module::Module;
 use burn::nn::conv::Conv2d;
 use burn::nn::Linear;
@@ -600,8 +601,8 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
     /// observations it writes itself), states `[rows × H]` and `keep` `[rows]` as in
     /// [`ActorCritic::step`]: every seat's memory steps, and the actor runs for the seats
     /// whose turn it is (the others only wait). For callers that drive seats of games outside
-    /// the batched environment: OBL's partners in fictitious continuations, the probe
-    /// recorder, [`crate::TrainedPolicy::step_seats`].
+    /// the batched environment: the probe recorder, OBL's belief data,
+    /// [`crate::TrainedPolicy::step_seats`].
     pub fn step_seats(
         &self,
         rows: &[(&yokai_engine::Game, yokai_engine::Seat)],
@@ -609,21 +610,31 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
         keep: Vec<f32>,
         device: &Device,
     ) -> SeatStep {
-        let Some(&(first, _)) = rows.first() else {
+        let views: Vec<SeenSeat> = rows.iter().map(|&(g, s)| SeenSeat::plain(g, s)).collect();
+        self.step_views(&views, states, keep, device)
+    }
+
+    /// [`ActorCritic::step_seats`] for seats that see their games through a symmetry each
+    /// (OBL's partners under Other-Play): the acting rows' logits are in the seat's view,
+    /// so a caller samples there and maps the action back ([`crate::distribution::sample_seen`]).
+    pub fn step_views(
+        &self,
+        rows: &[SeenSeat],
+        states: Vec<f32>,
+        keep: Vec<f32>,
+        device: &Device,
+    ) -> SeatStep {
+        let Some(first) = rows.first() else {
             return SeatStep::default();
         };
-        let game = *first.config();
+        let game = *first.game.config();
         let encoding = E::encoding();
         let l: usize = encoding.shape(&game).iter().product();
         let mut obs = vec![0f32; rows.len() * l];
-        for (k, &(g, seat)) in rows.iter().enumerate() {
-            encoding
-                .write(g, seat, &mut obs[k * l..][..l])
-                .expect("buffers sized from the games' own config");
+        for (k, view) in rows.iter().enumerate() {
+            view.write(encoding, &mut obs[k * l..][..l]);
         }
-        let acting: Vec<usize> = (0..rows.len())
-            .filter(|&k| rows[k].0.current_seat() == rows[k].1)
-            .collect();
+        let acting: Vec<usize> = (0..rows.len()).filter(|&k| rows[k].acts()).collect();
         let acted = self.act(&obs, &states, &keep, &acting, device, shards_on(device));
         SeatStep {
             states: acted.states,

@@ -2,17 +2,20 @@
 //! environment: the learner's memory through a fictitious continuation, and the partners'
 //! memories through an episode replayed in a fictitious colouring.
 
-use yokai_engine::{Game, Seat};
+use crate::seen::SeenSeat;
+use yokai_engine::{Game, Seat, Symmetry};
 use yokai_vec::Encoding;
 
 /// Step memories along per-game sequences of states, all games together: at depth j every
 /// game whose sequence has a state j steps the memories of its seats `seats[g]` on their
-/// observations (in `encoding`) of that state, in one batched `step(obs, states, keep)`.
+/// observations (in `encoding`, each seen through its symmetry: `symmetries[g·P + seat]`,
+/// the actor's row order) of that state, in one batched `step(obs, states, keep)`.
 /// `states[g]` holds the seats' memories (`seats[g].len()` rows) before the first state and
 /// after the last on return; `fresh` zeroes them at depth 0 (an episode's start).
 pub(crate) fn step_along(
     sequences: &[&[Game]],
     seats: &[Vec<Seat>],
+    symmetries: &[Symmetry],
     states: &mut [Vec<f32>],
     encoding: Encoding,
     fresh: bool,
@@ -41,9 +44,12 @@ pub(crate) fn step_along(
         let mut r = 0;
         for &g in &live {
             for &seat in &seats[g] {
-                encoding
-                    .write(&sequences[g][j], seat, &mut obs[r * l..][..l])
-                    .expect("buffers sized from the same config");
+                let view = SeenSeat {
+                    game: &sequences[g][j],
+                    seat,
+                    symmetry: symmetries[g * config.players() + seat.index()],
+                };
+                view.write(encoding, &mut obs[r * l..][..l]);
                 r += 1;
             }
             h.extend_from_slice(&states[g]);

@@ -6,20 +6,22 @@
 use super::continuation::random_legal;
 use super::memory::{episode_states, step_along};
 use crate::actor::Actor;
-use crate::distribution::sample_legal;
+use crate::distribution::sample_seen;
 use crate::error::TrainError;
 use crate::network::{shards_on, ActorCritic, Encoder, Recurrent, SeatStep};
 use crate::policy::TrainedPolicy;
+use crate::seen::SeenSeat;
 use burn::prelude::Device;
 use rand_chacha::ChaCha8Rng;
-use yokai_engine::{Colour, Game, Seat};
+use yokai_engine::{Colour, Game, Seat, Symmetry};
 use yokai_vec::Encoding;
 
 /// A network that can play the partners: the previous level's policy, or the learner's own
 /// network on its device ([`Learner`]).
 pub(crate) trait PartnerNet {
-    /// [`ActorCritic::step_seats`]: every seat's memory steps, the acting seats' logits.
-    fn step_seats(&self, rows: &[(&Game, Seat)], states: Vec<f32>, keep: Vec<f32>) -> SeatStep;
+    /// [`ActorCritic::step_views`]: every seat's memory steps, the acting seats' logits (in
+    /// each seat's view).
+    fn step_views(&self, rows: &[SeenSeat], states: Vec<f32>, keep: Vec<f32>) -> SeatStep;
     /// One memory step of flat rows (observations, states, keep).
     fn recur(&self, obs: Vec<f32>, states: Vec<f32>, keep: Vec<f32>) -> Vec<f32>;
     fn encoding(&self) -> Encoding;
@@ -27,8 +29,8 @@ pub(crate) trait PartnerNet {
 }
 
 impl PartnerNet for TrainedPolicy {
-    fn step_seats(&self, rows: &[(&Game, Seat)], states: Vec<f32>, keep: Vec<f32>) -> SeatStep {
-        TrainedPolicy::step_seats(self, rows, states, keep)
+    fn step_views(&self, rows: &[SeenSeat], states: Vec<f32>, keep: Vec<f32>) -> SeatStep {
+        TrainedPolicy::step_views(self, rows, states, keep)
     }
     fn recur(&self, obs: Vec<f32>, states: Vec<f32>, keep: Vec<f32>) -> Vec<f32> {
         self.recur_batch(obs, states, keep)
@@ -48,8 +50,8 @@ pub(crate) struct Learner<'a, E: Encoder, M: Recurrent> {
 }
 
 impl<E: Encoder, M: Recurrent> PartnerNet for Learner<'_, E, M> {
-    fn step_seats(&self, rows: &[(&Game, Seat)], states: Vec<f32>, keep: Vec<f32>) -> SeatStep {
-        self.net.step_seats(rows, states, keep, self.device)
+    fn step_views(&self, rows: &[SeenSeat], states: Vec<f32>, keep: Vec<f32>) -> SeatStep {
+        self.net.step_views(rows, states, keep, self.device)
     }
     /// In one part per core, as the rollout acts ([`ActorCritic::act`], no logits).
     fn recur(&self, obs: Vec<f32>, states: Vec<f32>, keep: Vec<f32>) -> Vec<f32> {
@@ -71,11 +73,13 @@ pub(crate) enum Partners<'a> {
     /// Level 0 below level 1: uniformly random legal play.
     Random(&'a mut ChaCha8Rng),
     /// A network: per continuation, its partner seats and their memories (`[seats × H]`).
-    /// Every partner seat's memory reads each state; the acting one samples from its
-    /// logits, as the rollout's seats do.
+    /// Every partner seat's memory reads each state, seen through the seat's symmetry
+    /// (`symmetries`, in the actor's row order: the real game's, [`Actor::symmetries`]);
+    /// the acting one samples from its logits in that view, as the rollout's seats do.
     Network {
         net: &'a dyn PartnerNet,
         seats: Vec<Vec<Seat>>,
+        symmetries: Vec<Symmetry>,
         states: Vec<Vec<f32>>,
         rng: &'a mut ChaCha8Rng,
     },
@@ -100,31 +104,39 @@ impl Partners<'_> {
             Partners::Network {
                 net,
                 seats,
+                symmetries,
                 states,
                 rng,
             } => {
-                let rows: Vec<(&Game, Seat)> = which
+                let p = games.first().map_or(0, |g| g.config().players());
+                let rows: Vec<SeenSeat> = which
                     .iter()
                     .zip(games)
-                    .flat_map(|(&k, &g)| seats[k].iter().map(move |&s| (g, s)))
+                    .flat_map(|(&k, &game)| {
+                        let symmetries = &*symmetries;
+                        seats[k].iter().map(move |&seat| SeenSeat {
+                            game,
+                            seat,
+                            symmetry: symmetries[k * p + seat.index()],
+                        })
+                    })
                     .collect();
                 let memories = which
                     .iter()
                     .flat_map(|&k| std::mem::take(&mut states[k]))
                     .collect();
-                let stepped = net.step_seats(&rows, memories, vec![1.0; rows.len()]);
+                let stepped = net.step_views(&rows, memories, vec![1.0; rows.len()]);
                 let h = net.hidden_size();
                 let mut at = 0;
                 let mut actions = Vec::with_capacity(games.len());
-                for (&k, &game) in which.iter().zip(games) {
+                for &k in which {
                     let m = seats[k].len();
                     states[k] = stepped.states[at * h..(at + m) * h].to_vec();
-                    let j = seats[k]
-                        .iter()
-                        .position(|&s| s == game.current_seat())
+                    let j = (0..m)
+                        .find(|&j| rows[at + j].acts())
                         .expect("the continuation asks only for the seats given rows");
                     let logits = stepped.logits(at + j).expect("the acting seat");
-                    actions.push(sample_legal(game, logits, rng));
+                    actions.push(sample_seen(&rows[at + j], logits, rng));
                     at += m;
                 }
                 actions
@@ -176,6 +188,7 @@ pub(crate) fn partner_memories(
     step_along(
         &sequences,
         seats,
+        &actor.symmetries(),
         &mut states,
         net.encoding(),
         true,

@@ -143,25 +143,20 @@ impl PreviousLevel {
         BeliefStats::mean(self.belief_curve[tail..].iter().copied())
     }
 
-    /// Every row's belief memory reads its observation of this step: `obs` is what the
-    /// learner's network read (`encoding`), `keep` 0 where an episode starts. Every seat's
-    /// memory steps on every step, as it did on the previous level's games it learnt from.
-    pub fn observe(
-        &mut self,
-        actor: &Actor,
-        obs: &[f32],
-        encoding: Encoding,
-        keep: &[f32],
-        dev: &Device,
-    ) {
+    /// Every row's belief memory reads its observation of this step, `keep` 0 where an
+    /// episode starts. Every seat's memory steps on every step, as it did on the previous
+    /// level's games it learnt from. It reads the true game, never a seat's Other-Play view:
+    /// the belief names true colours, and learnt from games seen without a symmetry.
+    pub fn observe(&mut self, actor: &Actor, keep: &[f32], dev: &Device) {
         let game = *actor.env().config();
         let graph = Encoding::Graph(Part::Full);
         let rows = keep.len();
         let l: usize = graph.shape(&game).iter().product();
-        // The compact network reads the same graph observation; the paper's reads the image.
+        // The compact network reads the same graph observation (the environment's buffer
+        // holds it, before any symmetry); the paper's reads the image.
         let written;
-        let obs = if encoding == graph {
-            obs
+        let obs = if actor.env().encoding() == graph {
+            actor.env().observations()
         } else {
             let p = game.players();
             let mut o = vec![0f32; rows * l];

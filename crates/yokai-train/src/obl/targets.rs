@@ -122,6 +122,7 @@ pub(crate) fn targets<E: Encoder, M: Recurrent>(
                 net,
                 states,
                 seats,
+                symmetries: actor.symmetries(),
                 rng: &mut partner_rng,
             }
         }
@@ -238,6 +239,7 @@ impl<E: Encoder, M: Recurrent> StepInputs<'_, E, M> {
         step_along(
             &sequences,
             &seats,
+            &self.actor.symmetries(),
             &mut states,
             E::encoding(),
             false,

@@ -103,15 +103,37 @@ fn the_target_of_ending_at_the_start_is_the_mean_over_all_colourings() {
     }
 }
 
+/// [`config`] with Other-Play's symmetries: every seat sees its game through one of the 24
+/// colour maps × rotations, drawn per episode.
+fn with_other_play(mut c: TrainConfig) -> TrainConfig {
+    c.algorithm.symmetries = crate::SymmetrySet::Both;
+    c
+}
+
 /// The partners' memories rebuilt by replaying each episode are the memories the
 /// rollout built, when the colouring replayed is the true one: after a rollout (games
 /// mid-episode and some just dealt), every partner seat's replayed memory equals its
-/// row of the rollout's state once that has read the current observation.
+/// row of the rollout's state once that has read the current observation. With and
+/// without Other-Play: a replay sees each state through the seat's symmetry, as the
+/// rollout did.
 #[test]
 fn partner_memories_replayed_in_the_true_colours_are_the_real_ones() {
-    let mut c = config();
-    c.ppo.rollout_steps = 13;
+    for op in [false, true] {
+        let mut c = config();
+        c.ppo.rollout_steps = 13;
+        if op {
+            c = with_other_play(c);
+        }
+        partner_memories_are_the_real_ones(c, op);
+    }
+}
+
+fn partner_memories_are_the_real_ones(c: TrainConfig, op: bool) {
     let (trainer, real) = after_a_rollout(c, 9, 2);
+    let moved = (0..16)
+        .filter(|&r| !trainer.actor.symmetry(r).is_identity())
+        .count();
+    assert_eq!(moved > 8, op, "seats seeing through a symmetry: {moved}");
     let net = trainer.model.valid();
     let dev = trainer.infer_device.clone();
     let truths: Vec<Vec<Colour>> = (0..8)
@@ -147,7 +169,7 @@ fn partner_memories_replayed_in_the_true_colours_are_the_real_ones() {
         for (a, b) in replayed[i].iter().zip(want) {
             assert!(
                 (a - b).abs() < 1e-5,
-                "game {i} (episode of {}): {a} vs {b}",
+                "game {i} (episode of {}, Other-Play {op}): {a} vs {b}",
                 lengths[i]
             );
         }
@@ -274,9 +296,19 @@ fn the_end_term_values_ending_in_the_world_drawn_from_the_belief() {
 /// every seat's memory of the world), two decisions.
 #[test]
 fn a_seat_that_plays_on_carries_the_memory_of_its_whole_continuation() {
-    let mut c = config();
-    c.ppo.rollout_steps = 11;
+    for op in [false, true] {
+        let mut c = config();
+        c.ppo.rollout_steps = 11;
+        if op {
+            c = with_other_play(c);
+        }
+        carries_the_memory_of_its_whole_continuation(c);
+    }
+}
+
+fn carries_the_memory_of_its_whole_continuation(c: TrainConfig) {
     let (trainer, real) = after_a_rollout(c, 8, 4);
+    let symmetries = trainer.actor.symmetries();
     let net = trainer.model.valid();
     let dev = trainer.infer_device.clone();
     let h = trainer.model.hidden_size();
@@ -319,6 +351,7 @@ fn a_seat_that_plays_on_carries_the_memory_of_its_whole_continuation() {
     let mut partners = Partners::Network {
         net: &learner,
         seats: seats.clone(),
+        symmetries: symmetries.clone(),
         states,
         rng: &mut rng,
     };
@@ -343,6 +376,7 @@ fn a_seat_that_plays_on_carries_the_memory_of_its_whole_continuation() {
     step_along(
         &last,
         &own,
+        &symmetries,
         &mut fast,
         MlpEncoder::encoding(),
         false,
@@ -351,6 +385,7 @@ fn a_seat_that_plays_on_carries_the_memory_of_its_whole_continuation() {
     step_along(
         &all,
         &own,
+        &symmetries,
         &mut slow,
         MlpEncoder::encoding(),
         false,

@@ -186,8 +186,7 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         let keep = self.actor.keeps();
         ro.keeps[t * rows..][..rows].copy_from_slice(&keep);
         if let Some(previous) = &mut self.previous {
-            let (encoding, dev) = (E::encoding(), &self.infer_device);
-            previous.observe(&self.actor, o, encoding, &keep, dev);
+            previous.observe(&self.actor, &keep, &self.infer_device);
         }
         // Each row's legal actions lie in its span (its substep's action groups): counting
         // and drawing read those columns only, at most 37 of 777 on 9c off the MOVE
