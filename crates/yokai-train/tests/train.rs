@@ -292,7 +292,9 @@ fn tiny_obl_levels(dir: &std::path::Path) -> (TrainConfig, TrainConfig) {
 
 /// Exact resume, for Other-Play (per-seat symmetries drawn by episode) and for Off-Belief
 /// Learning: level 1 (beliefs and level-0 moves drawn by step) and level 2 (the belief
-/// read from the checkpoint, memories rebuilt from the saved histories).
+/// read from the checkpoint, memories rebuilt from the saved histories), level 2 also with
+/// Other-Play's symmetries (partners and bootstrap in each seat's view, the belief reading
+/// the true game).
 #[test]
 fn resume_continues_exactly_like_an_uninterrupted_run() {
     let tmp = tempdir("resume");
@@ -309,7 +311,14 @@ fn resume_continues_exactly_like_an_uninterrupted_run() {
         named(FirstSeen),
         named(PublicFirst),
         obl,
-        obl2,
+        obl2.clone(),
+        TrainConfig {
+            algorithm: yokai_train::config::AlgorithmConfig {
+                symmetries: SymmetrySet::Both,
+                ..obl2.algorithm.clone()
+            },
+            ..obl2
+        },
     ];
     for config in configs {
         let whole = one_thread(|| {
