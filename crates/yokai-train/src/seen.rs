@@ -2,7 +2,7 @@
 //! game through (Other-Play draws one per seat and episode; the identity elsewhere), and
 //! its chosen action mapped back to the true game.
 //!
-//! The batched rollout ([`crate::actor::Actor::view`]) and every place that steps a network
+//! The batched rollout (`Actor::view`) and every place that steps a network
 //! on game states outside it (OBL's fictitious continuations, a partner's replayed memory)
 //! use these, so that a seat sees a fictitious world through the same symmetry as the real
 //! one it plays in.
