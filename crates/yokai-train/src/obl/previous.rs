@@ -20,6 +20,7 @@ use crate::tensor::{tensor2, to_vec};
 use burn::prelude::*;
 use burn::tensor::Bytes;
 use rand_chacha::ChaCha8Rng;
+use std::borrow::Cow;
 use std::path::Path;
 use yokai_engine::{derive_seed, Colour, Config, Part, Seat};
 use yokai_vec::Encoding;
@@ -145,32 +146,14 @@ impl PreviousLevel {
 
     /// Every row's belief memory reads its observation of this step, `keep` 0 where an
     /// episode starts. Every seat's memory steps on every step, as it did on the previous
-    /// level's games it learnt from. It reads the true game, never a seat's Other-Play view:
-    /// the belief names true colours, and learnt from games seen without a symmetry.
+    /// level's games it learnt from.
     pub fn observe(&mut self, actor: &Actor, keep: &[f32], dev: &Device) {
-        let game = *actor.env().config();
-        let graph = Encoding::Graph(Part::Full);
         let rows = keep.len();
-        let l: usize = graph.shape(&game).iter().product();
-        // The compact network reads the same graph observation (the environment's buffer
-        // holds it, before any symmetry); the paper's reads the image.
-        let written;
-        let obs = if actor.env().encoding() == graph {
-            actor.env().observations()
-        } else {
-            let p = game.players();
-            let mut o = vec![0f32; rows * l];
-            for r in 0..rows {
-                graph
-                    .write(actor.game(r / p), Seat((r % p) as u8), &mut o[r * l..][..l])
-                    .expect("buffers sized from the same config");
-            }
-            written = o;
-            &written
-        };
+        let obs = true_observations(actor);
+        let l = obs.len() / rows;
         let hb = self.belief.hidden_size();
         let h = self.belief.step(
-            tensor2(obs.to_vec(), [rows, l], dev),
+            tensor2(obs.into_owned(), [rows, l], dev),
             tensor2(std::mem::take(&mut self.memory), [rows, hb], dev),
             tensor2(keep.to_vec(), [rows, 1], dev),
         );
@@ -283,4 +266,26 @@ fn load_below(path: &std::path::Path, game: &Config) -> Result<TrainedPolicy, Tr
         )));
     }
     Ok(policy)
+}
+
+/// What the belief model reads at this step: every row's graph observation (`[rows × L]`,
+/// row g·P + seat) of the true game, never a seat's Other-Play view — the belief names
+/// true colours, and learnt from games seen without a symmetry. The compact network reads
+/// the same graph observation, so the environment's buffer (written before any symmetry)
+/// is borrowed; for the paper's image encoding it is written here.
+pub(crate) fn true_observations(actor: &Actor) -> Cow<'_, [f32]> {
+    let game = *actor.env().config();
+    let graph = Encoding::Graph(Part::Full);
+    if actor.env().encoding() == graph {
+        return Cow::Borrowed(actor.env().observations());
+    }
+    let (p, rows) = (game.players(), actor.rows());
+    let l: usize = graph.shape(&game).iter().product();
+    let mut o = vec![0f32; rows * l];
+    for r in 0..rows {
+        graph
+            .write(actor.game(r / p), Seat((r % p) as u8), &mut o[r * l..][..l])
+            .expect("buffers sized from the same config");
+    }
+    Cow::Owned(o)
 }

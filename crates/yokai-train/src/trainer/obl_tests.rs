@@ -5,11 +5,13 @@ use crate::network::MlpEncoder;
 use crate::obl::continuation::continue_all;
 use crate::obl::memory::step_along;
 use crate::obl::partners::{partner_memories, Learner, PartnerNet, Partners};
+use crate::obl::previous::true_observations;
 use crate::obl::targets::partners_of;
 use crate::TrainConfig;
 use burn::module::Module;
 use yokai_agents::belief::colouring::all_colourings;
-use yokai_engine::{Action, Card, Colour, Game, Seat};
+use yokai_engine::{Action, Card, Colour, Game, Part, Seat};
+use yokai_vec::Encoding;
 
 fn config() -> TrainConfig {
     let mut c = TrainConfig::from_toml_str(
@@ -108,6 +110,31 @@ fn the_target_of_ending_at_the_start_is_the_mean_over_all_colourings() {
 fn with_other_play(mut c: TrainConfig) -> TrainConfig {
     c.algorithm.symmetries = crate::SymmetrySet::Both;
     c
+}
+
+/// Under Other-Play the belief still reads the true game: after a rollout with the 24
+/// symmetries, every row's belief input is the graph observation of its seat in the true
+/// game, and for some rows that is not the seat's view (which the policy reads).
+#[test]
+fn the_belief_reads_the_true_game_not_the_seats_view() {
+    let (trainer, _) = after_a_rollout(with_other_play(config()), 9, 2);
+    let actor = &trainer.actor;
+    let (rows, l, na) = (actor.rows(), actor.obs_len(), actor.n_actions());
+    let read = true_observations(actor);
+    assert_eq!(read.len(), rows * l, "the compact network reads the graph");
+    let (mut view, mut masks) = (vec![0f32; rows * l], vec![0f32; rows * na]);
+    actor.view(&mut view, &mut masks);
+    let graph = Encoding::Graph(Part::Full);
+    let mut differ = 0;
+    for r in 0..rows {
+        let mut truth = vec![0f32; l];
+        graph
+            .write(actor.game(r / 2), Seat((r % 2) as u8), &mut truth)
+            .unwrap();
+        assert_eq!(&read[r * l..][..l], &truth[..], "row {r}");
+        differ += (view[r * l..][..l] != truth[..]) as usize;
+    }
+    assert!(differ > 0, "no seat's view differs from its true game");
 }
 
 /// The partners' memories rebuilt by replaying each episode are the memories the
