@@ -2,7 +2,7 @@
 # OBL with Other-Play's symmetries from level 1: `obl-cpu-long` with
 # `algorithm.symmetries = "both"` at every level, seeds 0-2. Run from the repository root:
 #   YOKAI=/work/bin/yokai sh docs/results/data/obl-op-chain/chain.sh
-# Levels 1-2 ran on 2026-12-06 from 12:00 (LEVELS="1 2"). To continue in a later session:
+# Levels 1-2 ran on 2026-12-06 from 12:00 (LEVELS="1 2"; level 2 did not finish in the session). To continue in a later session:
 # copy data/obl-chain-weights/op-chain-level-L to runs/obl-op-chain/level-L, then
 #   LEVELS="L+1 ..." sh docs/results/data/obl-op-chain/chain.sh
 # Wall clock by /usr/bin/time in $OUT/times.txt; each level evaluated after it, 5,000 games.
