@@ -6,10 +6,9 @@
 D=docs/results/data
 O=$D/obl-op
 compare() { # NAME-OF-SET LEVEL-4 LEVEL-5 OP-LEVEL-5 OP-LEVEL-6
-  set -- "$1" "$2" "$3" "$4" "$5" "level 6 with Other-Play=$5"
-  [ -d "$5" ] || set -- "$1" "$2" "$3" "$4" "$5"
+  six=; [ -d "$5" ] && six="level 6 with Other-Play=$5"
   python3 scripts/compare-evals.py --against first "$1, level 4=$2" \
-    "level 5 without symmetries=$3" "level 5 with Other-Play=$4" ${6:+"$6"}
+    "level 5 without symmetries=$3" "level 5 with Other-Play=$4" ${six:+"$six"}
   echo
   [ -d "$5" ] && python3 scripts/compare-evals.py "$1, level 5 with Other-Play=$4" \
     "level 6 with Other-Play=$5" && echo
