@@ -141,9 +141,14 @@ fn train_and_evaluate(
         .unwrap_or(seeds.len().min(2 * threads))
         .clamp(1, seeds.len());
     let threads_per_job = (threads / jobs).max(1);
+    // Named, because an OBL chain can switch them on at a level (`obl.symmetries_from_level`).
+    let symmetries = match config.algorithm.symmetries {
+        yokai_train::SymmetrySet::None => String::new(),
+        s => format!(" with {} symmetries", format!("{s:?}").to_lowercase()),
+    };
     eprintln!(
-        "training {name} ({} on {game}, {} network with the {} encoder, on {}) for seeds {:?} \
-         into {}, {jobs} at a time on {threads_per_job} thread(s) each",
+        "training {name} ({}{symmetries} on {game}, {} network with the {} encoder, on {}) for \
+         seeds {:?} into {}, {jobs} at a time on {threads_per_job} thread(s) each",
         config.algorithm.name,
         format!("{:?}", config.network.preset).to_lowercase(),
         config.network.encoder(),

@@ -562,15 +562,17 @@ fn a_belief_of_all_seeds_reads_every_seed_of_the_level_below() {
 /// An OBL level 2 run by hand (`obl.previous` and `run.init_from`, no `--levels`) starts at
 /// `obl.warm_lr` and `obl.warm_shaping` as a planned level does, and says so in the
 /// config.toml it writes; level 1 and a level 2 without starting weights keep the config's.
+/// The same for `obl.symmetries_from_level = 2`: level 1 trains without the symmetries.
 #[test]
 fn a_level_started_from_weights_by_hand_takes_the_warm_rate_and_shaping() {
     let tmp = tempdir("warm");
-    let mut level1 = tiny(SymmetrySet::None, 1);
+    let mut level1 = tiny(SymmetrySet::Both, 1);
     level1.obl.level = 1;
     level1.ppo.lr = 3e-3;
     level1.ppo.shaping = 1.0;
     level1.obl.warm_lr = Some(5e-4);
     level1.obl.warm_shaping = Some(0.0);
+    level1.obl.symmetries_from_level = Some(2);
     let mut level2 = level1.clone();
     level2.obl.level = 2;
     level2.obl.previous = Some(tmp.path().join("level-1"));
@@ -589,16 +591,17 @@ fn a_level_started_from_weights_by_hand_takes_the_warm_rate_and_shaping() {
         one_thread(|| train_run(&request, &mut |_, _| {})).unwrap();
         let text = std::fs::read_to_string(dir.join("config.toml")).unwrap();
         let c = TrainConfig::from_toml_str(&text, name).unwrap();
-        (c.ppo.lr, c.ppo.shaping)
+        (c.ppo.lr, c.ppo.shaping, c.algorithm.symmetries)
     };
-    assert_eq!(train(&level1, "level-1"), (3e-3, 1.0));
+    let (none, both) = (SymmetrySet::None, SymmetrySet::Both);
+    assert_eq!(train(&level1, "level-1"), (3e-3, 1.0, none));
     assert_eq!(
         train(&level2, "cold"),
-        (3e-3, 1.0),
+        (3e-3, 1.0, both),
         "no init_from: not warm"
     );
     level2.run.init_from = Some(tmp.path().join("level-1"));
-    assert_eq!(train(&level2, "warm"), (5e-4, 0.0));
+    assert_eq!(train(&level2, "warm"), (5e-4, 0.0, both));
 }
 
 #[test]

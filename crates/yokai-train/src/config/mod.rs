@@ -175,6 +175,20 @@ impl TrainConfig {
             );
         }
         if self.obl.level >= 1 {
+            // Checked at the levels it switches on only: a level below it has had its
+            // symmetries taken away (`for_its_level`) and is checked after that.
+            if self
+                .obl
+                .symmetries_from_level
+                .is_some_and(|from| self.obl.level >= from)
+                && self.algorithm.symmetries == SymmetrySet::None
+            {
+                return bad(
+                    "obl.symmetries_from_level",
+                    "switches on algorithm.symmetries from that level, but they are \"none\": \
+                     set algorithm.symmetries (\"both\" for Other-Play's)",
+                );
+            }
             if p.cluster_shaping > 0.0 {
                 return bad(
                     "ppo.cluster_shaping",
@@ -386,6 +400,28 @@ mod tests {
         // OBL with Other-Play: each seat sees the fictitious worlds through its symmetry too.
         let both = "[algorithm]\nsymmetries = \"both\"\n[obl]\nlevel = 1\n";
         assert!(TrainConfig::from_toml_str(both, "x").is_ok());
+        // Symmetries from a level: an OBL field, from level 1 up.
+        let e = refused(
+            "[algorithm]\nsymmetries = \"both\"\n[obl]\nsymmetries_from_level = 2\n",
+            "x",
+        );
+        assert!(
+            e.contains("obl.symmetries_from_level") && e.contains("obl.level = 0"),
+            "{e}"
+        );
+        let e = refused(
+            "[algorithm]\nsymmetries = \"both\"\n[obl]\nlevel = 1\nsymmetries_from_level = 0\n",
+            "x",
+        );
+        assert!(
+            e.contains("obl.symmetries_from_level") && e.contains("at least 1"),
+            "{e}"
+        );
+        let e = refused("[obl]\nlevel = 1\nsymmetries_from_level = 1\n", "x");
+        assert!(
+            e.contains("obl.symmetries_from_level") && e.contains("\"none\""),
+            "{e}"
+        );
         let e = refused("[network]\ncritic = \"central\"\n[obl]\nlevel = 1\n", "x");
         assert!(e.contains("network.critic") && e.contains("local"), "{e}");
         let e = refused("[network]\ncritic = \"oracle\"\n", "x");

@@ -51,7 +51,7 @@ pub struct OblConfig {
     pub decisions: u32,
     /// Levels ≥ 2 that start from trained weights (`run.init_from`: under `yokai train
     /// --levels`, the level below's; by hand, whatever `--init-from` names): the learning
-    /// rate they start at in place of `ppo.lr` ([`super::TrainConfig::warm_started`]). A
+    /// rate they start at in place of `ppo.lr` ([`super::TrainConfig::for_its_level`]). A
     /// new level restarts the rate (with a fresh Adam) and the shaping reward, and a policy
     /// that already plays well is jolted by both in its first updates: its critic learnt
     /// returns without shaping, so the value loss jumps seven- to eightfold and the level's
@@ -64,6 +64,16 @@ pub struct OblConfig {
     /// Absent: as `ppo.shaping`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub warm_shaping: Option<f32>,
+    /// The first level that trains with `algorithm.symmetries` (Other-Play's symmetries);
+    /// the levels below it train without them ([`super::TrainConfig::for_its_level`]).
+    /// Why: with the symmetries from level 1 a chain learns late and barely climbs (levels
+    /// 1-2 at SP 2.43 / 2.51 against 2.69 / 3.16 without), while switched on at level 5 of
+    /// a chain trained without them they bring cross-play to self-play within two levels
+    /// (docs/results/obl-other-play.md). A field rather than a `--set` because a `--set`
+    /// reaches every level of a `--levels` range. Absent: every level as
+    /// `algorithm.symmetries` says.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub symmetries_from_level: Option<u32>,
 }
 
 impl Default for OblConfig {
@@ -79,6 +89,7 @@ impl Default for OblConfig {
             decisions: 1,
             warm_lr: None,
             warm_shaping: None,
+            symmetries_from_level: None,
         }
     }
 }
@@ -115,14 +126,16 @@ impl BeliefOf {
 }
 
 impl super::TrainConfig {
-    /// The config this run trains with: an OBL level ≥ 2 that starts from trained weights
-    /// (`run.init_from`) takes `obl.warm_lr` and `obl.warm_shaping`, when given, in place
-    /// of `ppo.lr` and `ppo.shaping`; any other config is returned as it is. One rule for
-    /// every way a level is started — `--levels` (`obl::levels::plan`), a level
-    /// run by hand with `--init-from`, Python — because the trainer applies it when a run
-    /// starts (`Trainer::new_on`). Applying it twice changes nothing, so a resumed
-    /// run, whose saved config already holds the warm values, trains on as it started.
-    pub fn warm_started(mut self) -> Self {
+    /// The config an OBL level trains with, by two rules that depend on the level. An OBL
+    /// level ≥ 2 that starts from trained weights (`run.init_from`) takes `obl.warm_lr`
+    /// and `obl.warm_shaping`, when given, in place of `ppo.lr` and `ppo.shaping`; a level
+    /// below `obl.symmetries_from_level` trains without symmetries. Any other config is
+    /// returned as it is. One function for every way a level is started — `--levels`
+    /// (`obl::levels::plan`), a level run by hand with `--init-from`, Python — because the
+    /// trainer applies it when a run starts (`Trainer::new_on`). Applying it twice changes
+    /// nothing, so a resumed run, whose saved config already holds the level's values,
+    /// trains on as it started.
+    pub fn for_its_level(mut self) -> Self {
         if self.obl.level >= 2 && self.run.init_from.is_some() {
             if let Some(lr) = self.obl.warm_lr {
                 self.ppo.lr = lr;
@@ -130,6 +143,13 @@ impl super::TrainConfig {
             if let Some(shaping) = self.obl.warm_shaping {
                 self.ppo.shaping = shaping;
             }
+        }
+        if self
+            .obl
+            .symmetries_from_level
+            .is_some_and(|from| self.obl.level < from)
+        {
+            self.algorithm.symmetries = super::SymmetrySet::None;
         }
         self
     }
@@ -196,6 +216,18 @@ impl OblConfig {
         }
         if o.warm_shaping.is_some_and(|w| !(w >= 0.0 && w.is_finite())) {
             return bad("obl.warm_shaping", "must be a number ≥ 0");
+        }
+        if o.level == 0 && o.symmetries_from_level.is_some() {
+            return bad(
+                "obl.symmetries_from_level",
+                "is read by OBL levels; this config trains no OBL level (obl.level = 0)",
+            );
+        }
+        if o.symmetries_from_level == Some(0) {
+            return bad(
+                "obl.symmetries_from_level",
+                "must be at least 1 (levels count from 1; 1: every level, as if absent)",
+            );
         }
         Ok(())
     }

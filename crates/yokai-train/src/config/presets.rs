@@ -19,6 +19,7 @@ pub const PRESETS: &[(&str, &str)] = presets!(
     "obl-quick",
     "obl-cpu",
     "obl-cpu-long",
+    "obl-cpu-op",
     "obl-9c-2p",
     "cpu",
     "cpu-fast",

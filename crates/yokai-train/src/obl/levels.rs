@@ -3,9 +3,10 @@
 //! reference implementation, as its starting weights. Level 1's previous level is random
 //! play, and it starts where the config says (`run.init_from`). A level that starts from
 //! the level below's weights takes `obl.warm_lr` and `obl.warm_shaping`, when given, in
-//! place of `ppo.lr` and `ppo.shaping` ([`TrainConfig::warm_started`]), so the
+//! place of `ppo.lr` and `ppo.shaping` ([`TrainConfig::for_its_level`]), so the
 //! already-trained policy is not jolted by a restarted rate and shaping reward; level 1
-//! keeps the config's.
+//! keeps the config's. A level below `obl.symmetries_from_level` trains without
+//! `algorithm.symmetries` (the same function).
 
 use crate::config::{TrainConfig, TrainConfigError};
 use std::path::{Path, PathBuf};
@@ -63,7 +64,7 @@ pub fn plan(config: &TrainConfig, levels: &[u32], out: &Path) -> Result<Vec<Leve
             }
             // The trainer applies the same rule when the run starts; applied here too so
             // that the planned config is the one each level trains with.
-            let c = c.warm_started();
+            let c = c.for_its_level();
             c.validate("config")
                 .map_err(|source| LevelsError::Config { level, source })?;
             Ok(Level {
@@ -126,7 +127,7 @@ mod tests {
         assert_eq!(got, [(1, 3e-3, 1.0), (2, 1e-3, 0.0), (3, 1e-3, 0.0)]);
         // The trainer applies the rule again when the level starts: it changes nothing.
         for level in &plan {
-            assert_eq!(level.config.clone().warm_started(), level.config);
+            assert_eq!(level.config.clone().for_its_level(), level.config);
         }
         // Absent, every level trains at the config's rate and shaping (the reference's rule).
         let plan = super::plan(&obl(), &[1, 2], Path::new("runs/obl")).unwrap();
@@ -139,6 +140,61 @@ mod tests {
             (plan[0].config.ppo.lr, plan[0].config.ppo.shaping),
             (c.ppo.lr, 0.0)
         );
+    }
+
+    #[test]
+    fn symmetries_switch_on_at_their_level_and_stay_on() {
+        use crate::config::SymmetrySet;
+        let c = TrainConfig::from_toml_str(
+            "[algorithm]\nsymmetries = \"both\"\n[obl]\nlevel = 1\nsymmetries_from_level = 3\n",
+            "obl",
+        )
+        .unwrap();
+        let plan = plan(&c, &[1, 2, 3, 4], Path::new("runs/obl")).unwrap();
+        let got: Vec<_> = plan
+            .iter()
+            .map(|l| (l.level, l.config.algorithm.symmetries))
+            .collect();
+        use SymmetrySet::{Both, None};
+        assert_eq!(got, [(1, None), (2, None), (3, Both), (4, Both)]);
+        // Applied again when a level starts (and by a resume), it changes nothing.
+        for level in &plan {
+            assert_eq!(level.config.clone().for_its_level(), level.config);
+        }
+        // Absent, every level keeps the config's symmetries.
+        let mut every = c.clone();
+        every.obl.symmetries_from_level = Option::None;
+        let plan = super::plan(&every, &[1, 2], Path::new("runs/obl")).unwrap();
+        assert!(plan.iter().all(|l| l.config.algorithm.symmetries == Both));
+        // Nothing to switch on: refused where it would switch, naming the field.
+        let mut nothing = c;
+        nothing.algorithm.symmetries = None;
+        let e = super::plan(&nothing, &[2, 3], Path::new("x")).unwrap_err();
+        let e = format!("{e}: {}", std::error::Error::source(&e).unwrap());
+        assert!(
+            e.contains("level 3") && e.contains("obl.symmetries_from_level"),
+            "{e}"
+        );
+    }
+
+    /// `obl-cpu-op` is the chain measured in docs/results/obl-other-play.md: each level
+    /// below 5 trains as `obl-cpu-long` does, each level from 5 as `obl-cpu-long` with
+    /// `--set algorithm.symmetries=both`, so those measurements are the preset's.
+    #[test]
+    fn obl_cpu_op_is_obl_cpu_long_with_the_symmetries_from_level_5() {
+        let both: crate::config::Override = "algorithm.symmetries=both".parse().unwrap();
+        let (long, _) = TrainConfig::named("obl-cpu-long", &[]).unwrap();
+        let (with_both, _) = TrainConfig::named("obl-cpu-long", &[both]).unwrap();
+        let (op, _) = TrainConfig::named("obl-cpu-op", &[]).unwrap();
+        let out = Path::new("runs/x");
+        let plan = |c: &TrainConfig| super::plan(c, &[1, 2, 4, 5, 7], out).unwrap();
+        for ((op, long), with_both) in plan(&op).iter().zip(plan(&long)).zip(plan(&with_both)) {
+            let mut c = op.config.clone();
+            assert_eq!(c.obl.symmetries_from_level, Some(5));
+            c.obl.symmetries_from_level = None;
+            let measured = if op.level < 5 { &long } else { &with_both };
+            assert_eq!(c, measured.config, "level {}", op.level);
+        }
     }
 
     #[test]

@@ -141,15 +141,16 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
     }
 
     /// A new run of `config` with `seed` whose network lives on `infer_device` (a device
-    /// from [`crate::Backend::device`]; training uses its autodiff twin). An OBL level ≥ 2
-    /// that starts from trained weights trains with its warm rate and shaping
-    /// ([`TrainConfig::warm_started`]).
+    /// from [`crate::Backend::device`]; training uses its autodiff twin). An OBL level
+    /// trains with the config for its level: the warm rate and shaping of a level ≥ 2 that
+    /// starts from trained weights, no symmetries below `obl.symmetries_from_level`
+    /// ([`TrainConfig::for_its_level`]).
     pub fn new_on(
         config: TrainConfig,
         seed: u64,
         infer_device: Device,
     ) -> Result<Trainer<E, M>, TrainError> {
-        let mut trainer = Trainer::fresh(config.warm_started(), seed, infer_device, None)?;
+        let mut trainer = Trainer::fresh(config.for_its_level(), seed, infer_device, None)?;
         if let Some(path) = &trainer.config.run.init_from {
             let model = trainer.model.clone();
             trainer.model =
