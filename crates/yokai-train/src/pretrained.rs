@@ -45,6 +45,9 @@ const SHIPPED: &[(&str, u64, &[u8])] = shipped!(
     ("obl-cpu-level-5", 0),
     ("obl-cpu-level-5", 1),
     ("obl-cpu-level-5", 2),
+    ("obl-cpu-op-level-7", 0),
+    ("obl-cpu-op-level-7", 1),
+    ("obl-cpu-op-level-7", 2),
 );
 
 /// `pretrained.toml`: how each preset's agents were made and what they score.
