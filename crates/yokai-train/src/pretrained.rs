@@ -137,6 +137,8 @@ mod tests {
             .flat_map(|e| {
                 assert_eq!(e.seeds.len(), e.sp_r.len(), "{}", e.preset);
                 assert_eq!(e.seeds.len(), e.sp_se.len(), "{}", e.preset);
+                // Python's manifest test holds the same: the command a user can rerun.
+                assert!(e.command.starts_with("yokai train "), "{}", e.preset);
                 e.seeds
                     .iter()
                     .map(|s| format!("{PREFIX}{}/{s}", e.preset))
