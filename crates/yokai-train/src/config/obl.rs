@@ -69,9 +69,9 @@ pub struct OblConfig {
     /// Why: with the symmetries from level 1 a chain learns late and barely climbs (levels
     /// 1-2 at SP 2.43 / 2.51 against 2.69 / 3.16 without), while switched on at level 5 of
     /// a chain trained without them they bring cross-play to self-play at once, and the
-    /// levels above climb again (docs/results/obl-other-play.md). A field rather than a `--set` because a `--set`
-    /// reaches every level of a `--levels` range. Absent: every level as
-    /// `algorithm.symmetries` says.
+    /// levels above climb again (docs/results/obl-other-play.md). A field rather than a
+    /// `--set` because a `--set` reaches every level of a `--levels` range. Absent: every
+    /// level as `algorithm.symmetries` says.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub symmetries_from_level: Option<u32>,
 }

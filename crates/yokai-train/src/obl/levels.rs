@@ -155,20 +155,20 @@ mod tests {
             .iter()
             .map(|l| (l.level, l.config.algorithm.symmetries))
             .collect();
-        use SymmetrySet::{Both, None};
-        assert_eq!(got, [(1, None), (2, None), (3, Both), (4, Both)]);
+        let (none, both) = (SymmetrySet::None, SymmetrySet::Both);
+        assert_eq!(got, [(1, none), (2, none), (3, both), (4, both)]);
         // Applied again when a level starts (and by a resume), it changes nothing.
         for level in &plan {
             assert_eq!(level.config.clone().for_its_level(), level.config);
         }
         // Absent, every level keeps the config's symmetries.
         let mut every = c.clone();
-        every.obl.symmetries_from_level = Option::None;
+        every.obl.symmetries_from_level = None;
         let plan = super::plan(&every, &[1, 2], Path::new("runs/obl")).unwrap();
-        assert!(plan.iter().all(|l| l.config.algorithm.symmetries == Both));
+        assert!(plan.iter().all(|l| l.config.algorithm.symmetries == both));
         // Nothing to switch on: refused where it would switch, naming the field.
         let mut nothing = c;
-        nothing.algorithm.symmetries = None;
+        nothing.algorithm.symmetries = none;
         let e = super::plan(&nothing, &[2, 3], Path::new("x")).unwrap_err();
         let e = format!("{e}: {}", std::error::Error::source(&e).unwrap());
         assert!(
