@@ -141,19 +141,20 @@ fn train_and_evaluate(
         .unwrap_or(seeds.len().min(2 * threads))
         .clamp(1, seeds.len());
     let threads_per_job = (threads / jobs).max(1);
-    // Named, because an OBL chain can switch them on at a level (`obl.symmetries_from_level`).
-    let symmetries = match config.algorithm.symmetries {
-        yokai_train::SymmetrySet::None => String::new(),
-        s => format!(" with {} symmetries", format!("{s:?}").to_lowercase()),
+    // A resumed run trains on its checkpoint's config, whatever the command's preset says
+    // now: describe that one (the first seed's; every seed of a command shares it).
+    let checkpoint;
+    let (described, verb) = match (args.resume, seeds.first()) {
+        (true, Some(&first)) => {
+            checkpoint = checkpoint_config(&out.join(format!("seed-{first}")))?;
+            (&checkpoint, "resuming")
+        }
+        _ => (config, "training"),
     };
     eprintln!(
-        "training {name} ({}{symmetries} on {game}, {} network with the {} encoder, on {}) for \
-         seeds {:?} into {}, {jobs} at a time on {threads_per_job} thread(s) each",
-        config.algorithm.name,
-        format!("{:?}", config.network.preset).to_lowercase(),
-        config.network.encoder(),
-        args.device,
-        seeds,
+        "{verb} {name} ({}) for seeds {seeds:?} into {}, {jobs} at a time on \
+         {threads_per_job} thread(s) each",
+        describe(described, args.device),
         out.display()
     );
     // Seeds are independent runs: `jobs` workers take them in order from a queue, each on
@@ -245,6 +246,25 @@ fn train_and_evaluate(
     save_replays(&game, &entries, &selfplay, 2, 0, &eval_dir.join("replays"))?;
     eprintln!("wrote {}", eval_dir.display());
     Ok(())
+}
+
+/// What a run trains, in a few words: "obl with both symmetries on 9c-2p-perfect, compact
+/// network with the mlp encoder, on cpu". The symmetries are named because an OBL chain can
+/// switch them on at a level (`obl.symmetries_from_level`).
+fn describe(config: &TrainConfig, device: yokai_train::Backend) -> String {
+    let symmetries = match config.algorithm.symmetries {
+        yokai_train::SymmetrySet::None => String::new(),
+        s => format!(" with {} symmetries", format!("{s:?}").to_lowercase()),
+    };
+    let game = config
+        .game_config()
+        .map_or_else(|e| format!("a bad game ({e})"), |g| g.to_string());
+    format!(
+        "{}{symmetries} on {game}, {} network with the {} encoder, on {device}",
+        config.algorithm.name,
+        format!("{:?}", config.network.preset).to_lowercase(),
+        config.network.encoder(),
+    )
 }
 
 /// What training one seed needs from the command.

@@ -90,3 +90,54 @@ fn bad_overrides_are_refused_naming_them_and_nothing_is_written() {
     assert!(err.contains("--resume"), "{err}");
     assert!(!out.exists(), "a refused command wrote {}", out.display());
 }
+
+/// A resumed run trains on its checkpoint's config, not on what the preset says now: the
+/// line that opens the command describes the checkpoint's (here its symmetries, set when
+/// the run began and absent from the preset).
+#[test]
+fn a_resumed_run_is_described_by_its_checkpoint() {
+    let dir = tempfile::tempdir().unwrap();
+    let out_dir = dir.path().join("runs");
+    let out_s = out_dir.to_str().unwrap();
+    let tiny = [
+        "train",
+        "quick",
+        "--seeds",
+        "0",
+        "--threads",
+        "1",
+        "--eval-games",
+        "0",
+        "--out",
+        out_s,
+    ];
+    let sets = [
+        "ppo.num_envs=8",
+        "ppo.rollout_steps=8",
+        "ppo.total_steps=128",
+        "network.hidden=16",
+        "algorithm.symmetries=both",
+    ];
+    let mut first: Vec<&str> = tiny.to_vec();
+    for set in &sets {
+        first.extend(["--set", set]);
+    }
+    first.extend(["--max-updates", "1"]);
+    let out = common::yokai(&first);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("training quick (ippo with both symmetries on "),
+        "{stderr}"
+    );
+    let mut resumed: Vec<&str> = tiny.to_vec();
+    resumed.push("--resume");
+    let out = common::yokai(&resumed);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("resuming quick (ippo with both symmetries on "),
+        "{stderr}"
+    );
+    assert!(stderr.contains("seed 0: update 2/2 (100 %)"), "{stderr}");
+}
