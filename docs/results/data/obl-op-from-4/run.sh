@@ -1,0 +1,23 @@
+#!/bin/sh
+# The preset obl-cpu-op with Other-Play's symmetries switched on at level 4 instead of 5
+# (`--set obl.symmetries_from_level=4`), seeds 3-5, on top of the held-out chain's level 3
+# (data/obl-chain-weights/held-out-level-3). Run from the repository root:
+#   LEVEL=4 YOKAI=/work/bin/yokai sh docs/results/data/obl-op-from-4/run.sh
+# then LEVEL=5, … ; a level whose level below is not in $OUT starts from
+# data/obl-chain-weights/op-from-4-level-(L-1) (level 4: held-out-level-3).
+# Wall clock by /usr/bin/time in $OUT/times.txt; each level evaluated after it (5,000 games
+# per pair).
+YOKAI=${YOKAI:-yokai}
+OUT=${OUT:-runs/obl-op-from-4}
+L=${LEVEL:-4}
+SEEDS=${SEEDS:-3..6}
+if [ $L -eq 4 ]; then FROM=held-out-level-3; else FROM=op-from-4-level-$((L - 1)); fi
+mkdir -p $OUT
+[ -d $OUT/level-$((L - 1)) ] || cp -r docs/results/data/obl-chain-weights/$FROM $OUT/level-$((L - 1))
+echo "level $L start $(date -u +%T)" >> $OUT/times.txt
+/usr/bin/time -f "level $L: %e s wall, %U s user" -a -o $OUT/times.txt \
+  $YOKAI train obl-cpu-op --levels $L --seeds $SEEDS --set obl.symmetries_from_level=4 \
+    --eval-games 0 --out $OUT > $OUT/train-$L.log 2>&1 || exit 1
+echo "level $L eval start $(date -u +%T)" >> $OUT/times.txt
+$YOKAI eval $OUT/level-$L --games 5000 -o $OUT/level-$L/eval > $OUT/eval-$L.log 2>&1
+echo "level $L eval end $(date -u +%T)" >> $OUT/times.txt
