@@ -3,7 +3,8 @@
 # (`--set obl.symmetries_from_level=4`), seeds 3-5, on top of the held-out chain's level 3
 # (data/obl-chain-weights/held-out-level-3). Run from the repository root:
 #   LEVEL=4 YOKAI=/work/bin/yokai sh docs/results/data/obl-op-from-4/run.sh
-# then LEVEL=5, … ; a level whose level below is not in $OUT starts from
+# then LEVEL=5 and LEVEL=6 (run 2026-12-06, level 4 from 16:49, cut and resumed at 17:40);
+# a level whose level below is not in $OUT starts from
 # data/obl-chain-weights/op-from-4-level-(L-1) (level 4: held-out-level-3).
 # Wall clock by /usr/bin/time in $OUT/times.txt; each level evaluated after it (5,000 games
 # per pair).
