@@ -5,14 +5,17 @@
 #   LEVEL=4 YOKAI=/work/bin/yokai sh docs/results/data/obl-op-from-4/run.sh
 # then LEVEL=5 and LEVEL=6 (run 2026-12-06, level 4 from 16:49, cut and resumed at 17:40);
 # a level whose level below is not in $OUT starts from
-# data/obl-chain-weights/op-from-4-level-(L-1) (level 4: held-out-level-3).
+# data/obl-chain-weights/op-from-4-level-(L-1) (level 4: held-out-level-3), or $FROM. Seeds 0-2
+# on their level 3 (the chain the preset's seeds 0-2 levels 5-7 grew from):
+#   LEVEL=4 FROM=b10k-level-3 SEEDS=0..3 OUT=runs/obl-op-from-4-0 sh …/run.sh
 # Wall clock by /usr/bin/time in $OUT/times.txt; each level evaluated after it (5,000 games
 # per pair).
 YOKAI=${YOKAI:-yokai}
 OUT=${OUT:-runs/obl-op-from-4}
 L=${LEVEL:-4}
 SEEDS=${SEEDS:-3..6}
-if [ $L -eq 4 ]; then FROM=held-out-level-3; else FROM=op-from-4-level-$((L - 1)); fi
+if [ $L -eq 4 ]; then DEFAULT=held-out-level-3; else DEFAULT=op-from-4-level-$((L - 1)); fi
+FROM=${FROM:-$DEFAULT}
 mkdir -p $OUT
 [ -d $OUT/level-$((L - 1)) ] || cp -r docs/results/data/obl-chain-weights/$FROM $OUT/level-$((L - 1))
 echo "level $L start $(date -u +%T)" >> $OUT/times.txt
