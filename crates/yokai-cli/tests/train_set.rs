@@ -4,12 +4,10 @@
 mod common;
 use common::yokai_err;
 
-#[test]
-fn overrides_reach_the_saved_config_and_the_run() {
-    let dir = tempfile::tempdir().unwrap();
-    let out_dir = dir.path().join("runs");
-    let out_s = out_dir.to_str().unwrap();
-    let out = common::yokai(&[
+/// `yokai train quick` of seed 0 on one thread into `out`, no evaluation, with `sets` as
+/// `--set` overrides.
+fn train_quick<'a>(out: &'a str, sets: &[&'a str]) -> Vec<&'a str> {
+    let mut args = vec![
         "train",
         "quick",
         "--seeds",
@@ -19,20 +17,28 @@ fn overrides_reach_the_saved_config_and_the_run() {
         "--eval-games",
         "0",
         "--out",
-        out_s,
-        "--set",
+        out,
+    ];
+    for set in sets {
+        args.extend(["--set", set]);
+    }
+    args
+}
+
+#[test]
+fn overrides_reach_the_saved_config_and_the_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let out_dir = dir.path().join("runs");
+    let out_s = out_dir.to_str().unwrap();
+    let sets = [
         "ppo.num_envs=8",
-        "--set",
         "ppo.rollout_steps=8",
-        "--set",
         "ppo.total_steps=128",
-        "--set",
         "network.hidden=16",
-        "--set",
         "run.log_every=1",
-        "--set",
         "ppo.lr=0.002",
-    ]);
+    ];
+    let out = common::yokai(&train_quick(out_s, &sets));
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{stderr}");
     // Without a terminal the progress is plain lines: one per tenth of the run reached,
@@ -99,18 +105,6 @@ fn a_resumed_run_is_described_by_its_checkpoint() {
     let dir = tempfile::tempdir().unwrap();
     let out_dir = dir.path().join("runs");
     let out_s = out_dir.to_str().unwrap();
-    let tiny = [
-        "train",
-        "quick",
-        "--seeds",
-        "0",
-        "--threads",
-        "1",
-        "--eval-games",
-        "0",
-        "--out",
-        out_s,
-    ];
     let sets = [
         "ppo.num_envs=8",
         "ppo.rollout_steps=8",
@@ -118,10 +112,7 @@ fn a_resumed_run_is_described_by_its_checkpoint() {
         "network.hidden=16",
         "algorithm.symmetries=both",
     ];
-    let mut first: Vec<&str> = tiny.to_vec();
-    for set in &sets {
-        first.extend(["--set", set]);
-    }
+    let mut first = train_quick(out_s, &sets);
     first.extend(["--max-updates", "1"]);
     let out = common::yokai(&first);
     let stderr = String::from_utf8_lossy(&out.stderr);
@@ -130,7 +121,7 @@ fn a_resumed_run_is_described_by_its_checkpoint() {
         stderr.contains("training quick (ippo with both symmetries on "),
         "{stderr}"
     );
-    let mut resumed: Vec<&str> = tiny.to_vec();
+    let mut resumed = train_quick(out_s, &[]);
     resumed.push("--resume");
     let out = common::yokai(&resumed);
     let stderr = String::from_utf8_lossy(&out.stderr);
