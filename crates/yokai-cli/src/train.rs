@@ -7,6 +7,7 @@ use std::collections::VecDeque;
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use yokai_agents::PolicySpec;
+use yokai_engine::Config;
 use yokai_train::artifact::names::seed_path;
 use yokai_train::run::checkpoint_config;
 use yokai_train::PolicySource;
@@ -130,7 +131,16 @@ fn train_and_evaluate(
     seeds: &[u64],
     out: &Path,
 ) -> anyhow::Result<()> {
-    let game = config.game_config()?;
+    // Each seed's run config, decided once: a resumed run trains on its checkpoint's,
+    // whatever the command's preset says now. Read before any seed starts, so a missing or
+    // broken checkpoint stops the command at once.
+    let runs = seeds
+        .iter()
+        .map(|&seed| Ok((seed, run_config(args, config, out, seed)?)))
+        .collect::<anyhow::Result<VecDeque<(u64, TrainConfig)>>>()?;
+    // Every seed of a command shares the game and the algorithm: describe the first's.
+    let first = runs.front().map_or(config, |(_, c)| c);
+    let game = first.game_config()?;
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let threads = args.threads.unwrap_or(cores).max(1);
     // By default every seed at once, up to two per thread: a compact run keeps about one
@@ -141,26 +151,17 @@ fn train_and_evaluate(
         .unwrap_or(seeds.len().min(2 * threads))
         .clamp(1, seeds.len());
     let threads_per_job = (threads / jobs).max(1);
-    // A resumed run trains on its checkpoint's config, whatever the command's preset says
-    // now: describe that one (the first seed's; every seed of a command shares it).
-    let checkpoint;
-    let (described, verb) = match (args.resume, seeds.first()) {
-        (true, Some(&first)) => {
-            checkpoint = checkpoint_config(&out.join(format!("seed-{first}")))?;
-            (&checkpoint, "resuming")
-        }
-        _ => (config, "training"),
-    };
     eprintln!(
-        "{verb} {name} ({}) for seeds {seeds:?} into {}, {jobs} at a time on \
+        "{} {name} ({}) for seeds {seeds:?} into {}, {jobs} at a time on \
          {threads_per_job} thread(s) each",
-        describe(described, args.device),
+        if args.resume { "resuming" } else { "training" },
+        describe(first, &game, args.device),
         out.display()
     );
     // Seeds are independent runs: `jobs` workers take them in order from a queue, each on
     // its own thread pool.
     let progress = MultiProgress::new();
-    let queue = Mutex::new(seeds.iter().copied().collect::<VecDeque<u64>>());
+    let queue = Mutex::new(runs);
     let finished = Mutex::new(Vec::new());
     std::thread::scope(|scope| {
         for _ in 0..jobs {
@@ -177,7 +178,7 @@ fn train_and_evaluate(
                     }
                 };
                 loop {
-                    let Some(seed) = queue.lock().expect("no panic").pop_front() else {
+                    let Some((seed, config)) = queue.lock().expect("no panic").pop_front() else {
                         return;
                     };
                     let job = SeedJob {
@@ -187,7 +188,7 @@ fn train_and_evaluate(
                         threads: threads_per_job,
                         progress: &progress,
                     };
-                    let result = pool.install(|| job.train(seed));
+                    let result = pool.install(move || job.train(seed));
                     let failed = result.is_err();
                     finished.lock().expect("no panic").push((seed, result));
                     if failed {
@@ -251,14 +252,11 @@ fn train_and_evaluate(
 /// What a run trains, in a few words: "obl with both symmetries on 9c-2p-perfect, compact
 /// network with the mlp encoder, on cpu". The symmetries are named because an OBL chain can
 /// switch them on at a level (`obl.symmetries_from_level`).
-fn describe(config: &TrainConfig, device: yokai_train::Backend) -> String {
+fn describe(config: &TrainConfig, game: &Config, device: yokai_train::Backend) -> String {
     let symmetries = match config.algorithm.symmetries {
         yokai_train::SymmetrySet::None => String::new(),
         s => format!(" with {} symmetries", format!("{s:?}").to_lowercase()),
     };
-    let game = config
-        .game_config()
-        .map_or_else(|e| format!("a bad game ({e})"), |g| g.to_string());
     format!(
         "{}{symmetries} on {game}, {} network with the {} encoder, on {device}",
         config.algorithm.name,
@@ -267,10 +265,32 @@ fn describe(config: &TrainConfig, device: yokai_train::Backend) -> String {
     )
 }
 
+/// The config seed `seed` trains on: with --resume its checkpoint's (with --steps applied),
+/// otherwise the command's, where seed N starts from `seed-N` when `run.init_from` (from
+/// --init-from, the config, or --levels: the level below) is a directory of runs.
+fn run_config(
+    args: &Args,
+    config: &TrainConfig,
+    out: &Path,
+    seed: u64,
+) -> anyhow::Result<TrainConfig> {
+    if args.resume {
+        let mut c = checkpoint_config(&out.join(format!("seed-{seed}")))?;
+        if let Some(steps) = args.steps {
+            c.ppo.total_steps = steps;
+        }
+        return Ok(c);
+    }
+    let mut c = config.clone();
+    c.run.init_from = c.run.init_from.map(|from| seed_path(&from, seed));
+    Ok(c)
+}
+
 /// What training one seed needs from the command.
 struct SeedJob<'a> {
     args: &'a Args,
-    config: &'a TrainConfig,
+    /// The seed's run config ([`run_config`]).
+    config: TrainConfig,
     out: &'a Path,
     threads: usize,
     progress: &'a MultiProgress,
@@ -278,22 +298,10 @@ struct SeedJob<'a> {
 
 impl SeedJob<'_> {
     /// Train (or resume) one seed's run with a progress bar; its directory when it is done.
-    fn train(&self, seed: u64) -> anyhow::Result<PathBuf> {
+    fn train(self, seed: u64) -> anyhow::Result<PathBuf> {
         let args = self.args;
         let dir = self.out.join(format!("seed-{seed}"));
-        let mut run_config = if args.resume {
-            let mut c = checkpoint_config(&dir)?;
-            if let Some(steps) = args.steps {
-                c.ppo.total_steps = steps;
-            }
-            c
-        } else {
-            // Seed N starts from `seed-N` where `run.init_from` (from --init-from, the
-            // config, or --levels: the level below) is a directory of runs.
-            let mut c = self.config.clone();
-            c.run.init_from = c.run.init_from.map(|from| seed_path(&from, seed));
-            c
-        };
+        let mut run_config = self.config;
         run_config.run.threads = self.threads;
         let total = run_config.updates();
         let bar = self.progress.add(

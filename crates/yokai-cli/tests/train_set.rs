@@ -4,6 +4,14 @@
 mod common;
 use common::yokai_err;
 
+/// Overrides that make `quick` a two-update run of 8 games × 8 steps on a small network.
+const TINY: [&str; 4] = [
+    "ppo.num_envs=8",
+    "ppo.rollout_steps=8",
+    "ppo.total_steps=128",
+    "network.hidden=16",
+];
+
 /// `yokai train quick` of seed 0 on one thread into `out`, no evaluation, with `sets` as
 /// `--set` overrides.
 fn train_quick<'a>(out: &'a str, sets: &[&'a str]) -> Vec<&'a str> {
@@ -30,14 +38,7 @@ fn overrides_reach_the_saved_config_and_the_run() {
     let dir = tempfile::tempdir().unwrap();
     let out_dir = dir.path().join("runs");
     let out_s = out_dir.to_str().unwrap();
-    let sets = [
-        "ppo.num_envs=8",
-        "ppo.rollout_steps=8",
-        "ppo.total_steps=128",
-        "network.hidden=16",
-        "run.log_every=1",
-        "ppo.lr=0.002",
-    ];
+    let sets = [&TINY[..], &["run.log_every=1", "ppo.lr=0.002"]].concat();
     let out = common::yokai(&train_quick(out_s, &sets));
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{stderr}");
@@ -105,13 +106,7 @@ fn a_resumed_run_is_described_by_its_checkpoint() {
     let dir = tempfile::tempdir().unwrap();
     let out_dir = dir.path().join("runs");
     let out_s = out_dir.to_str().unwrap();
-    let sets = [
-        "ppo.num_envs=8",
-        "ppo.rollout_steps=8",
-        "ppo.total_steps=128",
-        "network.hidden=16",
-        "algorithm.symmetries=both",
-    ];
+    let sets = [&TINY[..], &["algorithm.symmetries=both"]].concat();
     let mut first = train_quick(out_s, &sets);
     first.extend(["--max-updates", "1"]);
     let out = common::yokai(&first);
