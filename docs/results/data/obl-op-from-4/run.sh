@@ -9,7 +9,8 @@
 # on their level 3 (the chain the preset's seeds 0-2 levels 5-7 grew from):
 #   LEVEL=4 FROM=b10k-level-3 SEEDS=0..3 OUT=runs/obl-op-from-4-0 sh …/run.sh
 # Wall clock by /usr/bin/time in $OUT/times.txt; each level evaluated after it (5,000 games
-# per pair).
+# per pair). Seeds 0-2's level 4 kept with
+#   scripts/keep-obl-level.sh runs/obl-op-from-4-0 4 docs/results/data/obl-op-from-4/seeds-0-2-level-4 op-from-4-0-level-4
 YOKAI=${YOKAI:-yokai}
 OUT=${OUT:-runs/obl-op-from-4}
 L=${LEVEL:-4}
