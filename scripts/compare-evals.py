@@ -20,12 +20,12 @@ Prints, in Markdown:
 Only the first group of each summary is read (`--group` picks another).
 """
 import argparse
-import json
 import math
 import pathlib
 import re
 import sys
 
+import evalfiles
 from stats import mean_se
 
 
@@ -34,12 +34,7 @@ def fail(message):
 
 
 def read_json(path):
-    try:
-        return json.loads(path.read_text())
-    except FileNotFoundError:
-        fail(f"{path}: no such file (is the folder a `yokai eval -o` output?)")
-    except json.JSONDecodeError as e:
-        fail(f"{path}: not JSON ({e})")
+    return evalfiles.read_json(path, "compare-evals")
 
 
 def load(spec, group_index):

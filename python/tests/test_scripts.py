@@ -170,6 +170,52 @@ def test_compare_evals_names_a_folder_that_is_not_an_evaluation(tmp_path):
     assert out.returncode != 0 and "summary.json: not JSON" in out.stderr
 
 
+def write_two_groups(folder):
+    """A `yokai eval -o` folder of two groups, A (seeds 0, 1) and B (seeds 3, 4, 5), every
+    pair's R given, each pair once in the file (as `yokai eval` writes it)."""
+    folder.mkdir()
+    a = ["a/seed-0", "a/seed-1"]
+    b = ["b/seed-3", "b/seed-4", "b/seed-5"]
+    groups = [{"name": "a", "seeds": a}, {"name": "b", "seeds": b}]
+    (folder / "summary.json").write_text(json.dumps({"groups": groups}))
+    r = {
+        ("a/seed-0", "a/seed-0"): 4.0, ("a/seed-1", "a/seed-1"): 5.0, ("a/seed-0", "a/seed-1"): 3.0,
+        ("b/seed-3", "b/seed-3"): 2.0, ("b/seed-4", "b/seed-4"): 2.0, ("b/seed-5", "b/seed-5"): 2.0,
+        ("b/seed-3", "b/seed-4"): 1.0, ("b/seed-3", "b/seed-5"): 2.0, ("b/seed-4", "b/seed-5"): 3.0,
+    }
+    for i, x in enumerate(a):
+        for j, y in enumerate(b):
+            r[(x, y)] = 1.0 + i  # seed 0 scores 1 with every B seed, seed 1 scores 2
+    matrix = [{"row": x, "col": y, "metrics": {"reward": v}} for (x, y), v in r.items()]
+    (folder / "matrix.json").write_text(json.dumps(matrix))
+
+
+def test_cross_groups_tables_every_pair_of_groups(tmp_path):
+    write_two_groups(tmp_path / "e")
+    out = run_script("cross-groups.py", "--names", "A,B", tmp_path / "e")
+    assert out.returncode == 0, out.stderr
+    rows = out.stdout.splitlines()
+    assert rows[0] == "| group | SP R | with A | with B |"
+    # A: SP (4 + 5) / 2 = 4.5 ± 0.5; its one pair of distinct seeds 3.0; with B: three 1s and
+    # three 2s, 1.5 ± sqrt(0.3 / 6) = 0.22. B: SP 2.0 ± 0; its pairs 1, 2, 3: 2.0 ± 0.58.
+    assert rows[2] == "| A | 4.50 ± 0.50 | 3.00 ± 0.00 | 1.50 ± 0.22 |"
+    assert rows[3] == "| B | 2.00 ± 0.00 | 1.50 ± 0.22 | 2.00 ± 0.58 |"
+
+
+def test_cross_groups_names_what_is_missing(tmp_path):
+    write_two_groups(tmp_path / "e")
+    out = run_script("cross-groups.py", "--names", "A", tmp_path / "e")
+    assert out.returncode != 0 and "--names gives 1 names for 2 groups" in out.stderr
+    matrix = json.loads((tmp_path / "e" / "matrix.json").read_text())
+    kept = [m for m in matrix if (m["row"], m["col"]) != ("a/seed-1", "b/seed-5")]
+    (tmp_path / "e" / "matrix.json").write_text(json.dumps(kept))
+    out = run_script("cross-groups.py", tmp_path / "e")
+    assert out.returncode != 0 and "no pair a/seed-1 + b/seed-5" in out.stderr
+    write_eval(tmp_path / "one", [1.0, 2.0], 0.5)
+    out = run_script("cross-groups.py", tmp_path / "one")
+    assert out.returncode != 0 and "1 group(s); cross-play between groups needs 2" in out.stderr
+
+
 def run_belief_curve(*args):
     return run_script("belief-curve.py", *args)
 
