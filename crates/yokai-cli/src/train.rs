@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use yokai_agents::PolicySpec;
 use yokai_engine::Config;
-use yokai_train::artifact::names::seed_path;
+use yokai_train::artifact::names::{seed_dir, seed_path};
 use yokai_train::run::checkpoint_config;
 use yokai_train::PolicySource;
 use yokai_train::{train_run, RunRequest, TrainConfig, TrainedPolicy};
@@ -275,7 +275,7 @@ fn run_config(
     seed: u64,
 ) -> anyhow::Result<TrainConfig> {
     if args.resume {
-        let mut c = checkpoint_config(&out.join(format!("seed-{seed}")))?;
+        let mut c = checkpoint_config(&seed_dir(out, seed))?;
         if let Some(steps) = args.steps {
             c.ppo.total_steps = steps;
         }
@@ -300,7 +300,7 @@ impl SeedJob<'_> {
     /// Train (or resume) one seed's run with a progress bar; its directory when it is done.
     fn train(self, seed: u64) -> anyhow::Result<PathBuf> {
         let args = self.args;
-        let dir = self.out.join(format!("seed-{seed}"));
+        let dir = seed_dir(self.out, seed);
         let mut run_config = self.config;
         run_config.run.threads = self.threads;
         let total = run_config.updates();

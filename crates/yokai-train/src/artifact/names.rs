@@ -19,10 +19,16 @@ pub fn snapshot_name(update: u64) -> String {
     format!("policy-{update:06}.ykp")
 }
 
+/// Seed `seed`'s run directory inside a method's directory `out`, as `yokai train --seeds`
+/// writes it: `out/seed-N`.
+pub fn seed_dir(out: &Path, seed: u64) -> PathBuf {
+    out.join(format!("seed-{seed}"))
+}
+
 /// Seed `seed`'s run in `path` when `path` is a directory of `seed-N` runs, else `path`
 /// itself: how `--init-from` and `obl.previous` name one run per seed.
 pub fn seed_path(path: &Path, seed: u64) -> PathBuf {
-    let per_seed = path.join(format!("seed-{seed}"));
+    let per_seed = seed_dir(path, seed);
     if per_seed.is_dir() {
         per_seed
     } else {
