@@ -127,3 +127,37 @@ fn a_resumed_run_is_described_by_its_checkpoint() {
     );
     assert!(stderr.contains("seed 0: update 2/2 (100 %)"), "{stderr}");
 }
+
+/// `--resume` reads every seed's checkpoint before any seed trains: where a later seed has
+/// none, the command stops at once, naming that seed's folder, and the seed that could
+/// resume has not moved (its checkpoint stays at update 1).
+#[test]
+fn a_resume_missing_a_seeds_checkpoint_stops_before_any_seed_trains() {
+    let dir = tempfile::tempdir().unwrap();
+    let out_dir = dir.path().join("runs");
+    let out_s = out_dir.to_str().unwrap();
+    let mut first = train_quick(out_s, &TINY);
+    first.extend(["--max-updates", "1"]);
+    let out = common::yokai(&first);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let checkpoint = out_dir.join("seed-0").join("checkpoint.ykc");
+    let before = std::fs::read(&checkpoint).unwrap();
+    let mut resumed = train_quick(out_s, &[]);
+    let seeds = resumed.iter().position(|a| *a == "--seeds").unwrap() + 1;
+    resumed[seeds] = "0..2";
+    resumed.push("--resume");
+    let out = common::yokai(&resumed);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{stderr}");
+    assert!(stderr.contains("seed-1"), "{stderr}");
+    assert!(!stderr.contains("seed 0: update"), "{stderr}");
+    assert_eq!(
+        std::fs::read(&checkpoint).unwrap(),
+        before,
+        "seed 0 trained"
+    );
+}
