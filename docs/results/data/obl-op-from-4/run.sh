@@ -8,21 +8,10 @@
 # data/obl-chain-weights/op-from-4-level-(L-1) (level 4: held-out-level-3), or $FROM. Seeds 0-2
 # on their level 3 (the chain the preset's seeds 0-2 levels 5-7 grew from):
 #   LEVEL=4 FROM=b10k-level-3 SEEDS=0..3 OUT=runs/obl-op-from-4-0 sh …/run.sh
-# Wall clock by /usr/bin/time in $OUT/times.txt; each level evaluated after it (5,000 games
-# per pair). Seeds 0-2's level 4 kept with
+# Each level is one scripts/obl-level.sh: wall clock by /usr/bin/time in $OUT/times.txt, each
+# level evaluated after it (5,000 games per pair). Seeds 0-2's level 4 kept with
 #   scripts/keep-obl-level.sh runs/obl-op-from-4-0 4 docs/results/data/obl-op-from-4/seeds-0-2-level-4 op-from-4-0-level-4
-YOKAI=${YOKAI:-yokai}
-OUT=${OUT:-runs/obl-op-from-4}
-L=${LEVEL:-4}
-SEEDS=${SEEDS:-3..6}
-if [ $L -eq 4 ]; then DEFAULT=held-out-level-3; else DEFAULT=op-from-4-level-$((L - 1)); fi
-FROM=${FROM:-$DEFAULT}
-mkdir -p $OUT
-[ -d $OUT/level-$((L - 1)) ] || cp -r docs/results/data/obl-chain-weights/$FROM $OUT/level-$((L - 1))
-echo "level $L start $(date -u +%T)" >> $OUT/times.txt
-/usr/bin/time -f "level $L: %e s wall, %U s user" -a -o $OUT/times.txt \
-  $YOKAI train obl-cpu-op --levels $L --seeds $SEEDS --set obl.symmetries_from_level=4 \
-    --eval-games 0 --out $OUT > $OUT/train-$L.log 2>&1 || exit 1
-echo "level $L eval start $(date -u +%T)" >> $OUT/times.txt
-$YOKAI eval $OUT/level-$L --games 5000 -o $OUT/level-$L/eval > $OUT/eval-$L.log 2>&1
-echo "level $L eval end $(date -u +%T)" >> $OUT/times.txt
+export YOKAI=${YOKAI:-yokai} OUT=${OUT:-runs/obl-op-from-4} LEVEL=${LEVEL:-4} SEEDS=${SEEDS:-3..6}
+if [ $LEVEL -eq 4 ]; then DEFAULT=held-out-level-3; else DEFAULT=op-from-4-level-$((LEVEL - 1)); fi
+export FROM=${FROM:-$DEFAULT}
+PRESET=obl-cpu-op SET="--set obl.symmetries_from_level=4" exec sh scripts/obl-level.sh
