@@ -51,6 +51,11 @@ pub struct Actor {
     encoding: Encoding,
     /// The symmetries a seat may draw (identity only without Other-Play).
     symmetries: Vec<Symmetry>,
+    /// Steps taken in every game so far (all games step together).
+    steps: u64,
+    /// `obl.symmetries_ramp` ([`TrainConfig::symmetry_ramp_steps`]): over this many steps
+    /// the share of games dealt with drawn symmetries grows from 0 to 1; `None`: every game.
+    ramp_steps: Option<u64>,
     /// Per row: the seat's symmetry this episode and its inverse. With colour names of its
     /// own (`labels`), the symmetry's colour permutation is the seat's names so far.
     row_sym: Vec<(Symmetry, Symmetry)>,
@@ -85,14 +90,31 @@ impl Actor {
         let env = VecEnv::<f32>::new(game, options)?;
         let s = config.algorithm.symmetries;
         let symmetries = Symmetry::enumerate(&game, s.colours(), s.rotations(), false);
-        Ok(Actor::new(
+        let mut actor = Actor::new(
             env,
             seed,
             env_seed(seed),
             symmetries,
             config.network.colours,
             hidden,
-        ))
+        );
+        actor.ramp_steps = config.symmetry_ramp_steps();
+        actor.redraw_symmetries();
+        Ok(actor)
+    }
+
+    /// Bring the symmetries in over `ramp_steps` steps per game (`None`: in every game),
+    /// for the games dealt from now on (a run whose budget changes).
+    pub fn set_symmetry_ramp(&mut self, ramp_steps: Option<u64>) {
+        self.ramp_steps = ramp_steps;
+    }
+
+    /// Every game's current episode's symmetries as they were drawn when it was dealt.
+    fn redraw_symmetries(&mut self) {
+        for i in 0..self.env.num_envs() {
+            self.draw_symmetries(i);
+            self.replay_colours(i);
+        }
     }
 
     /// `env`'s games seen through `symmetries` (each seat draws one per episode from
@@ -118,6 +140,8 @@ impl Actor {
             env_seed,
             encoding,
             symmetries,
+            steps: 0,
+            ramp_steps: None,
             row_sym: vec![(identity, identity); n * p],
             labels: colours
                 .naming()
@@ -174,8 +198,16 @@ impl Actor {
         self.row_sym.iter().map(|s| s.0).collect()
     }
 
+    /// The share of games dealt after `steps` steps that draw symmetries (1 without a ramp).
+    fn symmetry_share(&self, steps: u64) -> f64 {
+        self.ramp_steps
+            .map_or(1.0, |ramp| (steps as f64 / ramp as f64).min(1.0))
+    }
+
     /// Other-Play: each seat of game `env` draws its own symmetry for the game's current
-    /// episode, a function of (seed, env, episode, seat).
+    /// episode, a function of (seed, env, episode, seat). With a ramp, the game first
+    /// decides whether its seats draw at all (by the share when it was dealt, which its
+    /// actions so far date), else each seat keeps the identity.
     fn draw_symmetries(&mut self, env: usize) {
         let p = self.game.players();
         let k = self.symmetries.len() as u64;
@@ -183,9 +215,17 @@ impl Actor {
             derive_seed(derive_seed(self.seed, 0x0B), env as u64),
             self.env.episodes(env),
         );
+        let dealt_at = self.steps.saturating_sub(self.history[env].len() as u64);
+        let uniform = (derive_seed(episode_stream, 0x200) >> 11) as f64 / (1u64 << 53) as f64;
+        let draws = uniform < self.symmetry_share(dealt_at);
+        let identity = Symmetry::identity(&self.game);
         for s in 0..p {
             let pick = derive_seed(episode_stream, s as u64) % k;
-            let sym = self.symmetries[pick as usize];
+            let sym = if draws {
+                self.symmetries[pick as usize]
+            } else {
+                identity
+            };
             self.row_sym[env * p + s] = (sym, sym.inverse());
         }
         if let Some(labels) = &mut self.labels {
@@ -301,6 +341,7 @@ impl Actor {
     pub fn step(&mut self, joint: &[u32], acting: &[u8]) -> Result<(), yokai_vec::VecError> {
         let p = self.game.players();
         self.env.step_joint(joint)?;
+        self.steps += 1;
         for (i, &seat) in acting.iter().enumerate() {
             let action = joint[i * p + seat as usize];
             if self.env.dones()[i] == 1 {
@@ -344,10 +385,11 @@ impl Actor {
             .collect()
     }
 
-    /// Put every game back where a checkpoint left it: game `i` in episode `episodes[i]`
-    /// after `history[i]`, with `memory` as every row's memory.
+    /// Put every game back where a checkpoint left it, `steps` steps into the run: game `i`
+    /// in episode `episodes[i]` after `history[i]`, with `memory` as every row's memory.
     pub fn restore(
         &mut self,
+        steps: u64,
         episodes: &[u64],
         history: Vec<Vec<u32>>,
         memory: Vec<f32>,
@@ -357,10 +399,8 @@ impl Actor {
         }
         self.history = history;
         self.memory = memory;
-        for i in 0..self.env.num_envs() {
-            self.draw_symmetries(i);
-            self.replay_colours(i);
-        }
+        self.steps = steps;
+        self.redraw_symmetries();
         Ok(())
     }
 
@@ -456,5 +496,95 @@ mod tests {
                 "{game}: {narrow} narrow, {wide} wide spans"
             );
         }
+    }
+
+    /// Random play of `actor` for `steps` steps; per game dealt (its step, whether any of
+    /// its seats drew a symmetry other than the identity).
+    fn play_randomly(actor: &mut Actor, steps: usize, rng: &mut ChaCha8Rng) -> Vec<(u64, bool)> {
+        let (rows, l, na) = (actor.rows(), actor.obs_len(), actor.n_actions());
+        let p = actor.game.players();
+        let (mut obs, mut masks) = (vec![0f32; rows * l], vec![0f32; rows * na]);
+        let drawn =
+            |actor: &Actor, i: usize| (0..p).any(|s| !actor.symmetry(i * p + s).is_identity());
+        let mut deals: Vec<(u64, bool)> = (0..rows / p).map(|i| (0, drawn(actor, i))).collect();
+        for _ in 0..steps {
+            actor.view(&mut obs, &mut masks);
+            let mut joint = vec![0u32; rows];
+            for (r, action) in joint.iter_mut().enumerate() {
+                let mask = &masks[r * na..][..na];
+                let legal: Vec<usize> = (0..na).filter(|&a| mask[a] > 0.5).collect();
+                let a = legal[(rng.next_u64() % legal.len() as u64) as usize];
+                *action = actor.to_true_action(r, a) as u32;
+            }
+            let acting = actor.env().acting_seats().to_vec();
+            actor.step(&joint, &acting).unwrap();
+            for i in 0..rows / p {
+                if actor.history[i].is_empty() {
+                    deals.push((actor.steps, drawn(actor, i)));
+                }
+            }
+        }
+        deals
+    }
+
+    /// `obl.symmetries_ramp`: at the switch level the games dealt at the start play without
+    /// symmetries, the share drawing them grows with the step they are dealt at, every game
+    /// dealt after the ramp draws as without one; and a game restored mid-episode sees
+    /// through the symmetries it was dealt with, as a resumed run must.
+    #[test]
+    fn the_symmetry_ramp_brings_the_symmetries_in_by_the_step_a_game_is_dealt() {
+        // 200 updates of 4 steps per game: the ramp covers the first 400 steps.
+        let text = |level: u32| {
+            format!(
+                "game = \"9c-2p-perfect\"\n[algorithm]\nname = \"op\"\nsymmetries = \"both\"\n\
+                 [ppo]\nnum_envs = 64\nrollout_steps = 4\ntotal_steps = 51200\n[run]\nthreads = 1\n\
+                 [obl]\nlevel = {level}\nprevious = \"below\"\nsymmetries_from_level = 4\n\
+                 symmetries_ramp = 0.5\n"
+            )
+        };
+        let config = TrainConfig::from_toml_str(&text(4), "test").unwrap();
+        assert_eq!(config.symmetry_ramp_steps(), Some(400));
+        let above = TrainConfig::from_toml_str(&text(5), "test").unwrap();
+        assert_eq!(
+            above.symmetry_ramp_steps(),
+            None,
+            "a level above the switch"
+        );
+
+        let mut actor = Actor::for_run(&config, 5, MlpEncoder::encoding(), 4).unwrap();
+        let mut rng = ChaCha8Rng::seed_from_u64(2);
+        let mut deals = play_randomly(&mut actor, 250, &mut rng);
+        // Mid-ramp and mid-episode: a copy restored from the loop state draws alike.
+        let mut copy = Actor::for_run(&config, 5, MlpEncoder::encoding(), 4).unwrap();
+        let (episodes, history) = (actor.episodes(), actor.history.clone());
+        copy.restore(actor.steps, &episodes, history, actor.memory.clone())
+            .unwrap();
+        assert_eq!(copy.symmetries(), actor.symmetries());
+        assert!(actor.history.iter().any(|h| !h.is_empty()));
+        deals.extend(play_randomly(&mut actor, 550, &mut rng));
+
+        let share = |from: u64, to: u64| {
+            let d: Vec<bool> = deals
+                .iter()
+                .filter(|(at, _)| (from..to).contains(at))
+                .map(|&(_, drawn)| drawn)
+                .collect();
+            assert!(d.len() >= 100, "{} games dealt in {from}..{to}", d.len());
+            d.iter().filter(|&&x| x).count() as f64 / d.len() as f64
+        };
+        assert!(
+            deals[..64].iter().all(|&(_, drawn)| !drawn),
+            "dealt at step 0"
+        );
+        let (early, middle, after) = (share(0, 80), share(160, 240), share(400, 800));
+        assert!(
+            early < 0.25,
+            "share dealt in the ramp's first fifth: {early}"
+        );
+        assert!(
+            (0.3..0.7).contains(&middle),
+            "share dealt in the ramp's middle fifth: {middle}"
+        );
+        assert!(after > 0.95, "share dealt after the ramp: {after}");
     }
 }

@@ -422,6 +422,26 @@ mod tests {
             e.contains("obl.symmetries_from_level") && e.contains("\"none\""),
             "{e}"
         );
+        // The ramp: a fraction of the switch level's steps, read only with the switch.
+        let ramp = |from: &str, ramp: &str| {
+            format!(
+                "[algorithm]\nsymmetries = \"both\"\n[obl]\nlevel = 1\n{from}symmetries_ramp = {ramp}\n"
+            )
+        };
+        let from = "symmetries_from_level = 1\n";
+        assert!(TrainConfig::from_toml_str(&ramp(from, "1.0"), "x").is_ok());
+        let e = refused(&ramp("", "0.5"), "x");
+        assert!(
+            e.contains("obl.symmetries_ramp") && e.contains("obl.symmetries_from_level"),
+            "{e}"
+        );
+        for bad_share in ["0.0", "1.5", "nan"] {
+            let e = refused(&ramp(from, bad_share), "x");
+            assert!(
+                e.contains("obl.symmetries_ramp") && e.contains("(0, 1]"),
+                "{bad_share}: {e}"
+            );
+        }
         let e = refused("[network]\ncritic = \"central\"\n[obl]\nlevel = 1\n", "x");
         assert!(e.contains("network.critic") && e.contains("local"), "{e}");
         let e = refused("[network]\ncritic = \"oracle\"\n", "x");

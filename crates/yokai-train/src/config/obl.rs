@@ -74,6 +74,15 @@ pub struct OblConfig {
     /// level as `algorithm.symmetries` says.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub symmetries_from_level: Option<u32>,
+    /// At level `symmetries_from_level` only: the first fraction of the level's steps over
+    /// which the share of games whose seats see them through a drawn symmetry grows
+    /// linearly from 0 to 1 (each game decides when it is dealt; the others are played as
+    /// plain self-play). Why: switched on at once, the symmetries make the level fall below
+    /// the one it starts from (docs/results/obl-op-from-4-all.md); brought in gradually,
+    /// the policy can leave its conventions while it still scores with them. Absent: every
+    /// game with the symmetries from the level's first step.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub symmetries_ramp: Option<f32>,
 }
 
 impl Default for OblConfig {
@@ -90,6 +99,7 @@ impl Default for OblConfig {
             warm_lr: None,
             warm_shaping: None,
             symmetries_from_level: None,
+            symmetries_ramp: None,
         }
     }
 }
@@ -152,6 +162,18 @@ impl super::TrainConfig {
             self.algorithm.symmetries = super::SymmetrySet::None;
         }
         self
+    }
+
+    /// With `obl.symmetries_ramp` at the level the symmetries come in: the steps per game
+    /// over which the share of games drawing a symmetry grows from 0 to 1. `None` at any
+    /// other level, and without the ramp.
+    pub fn symmetry_ramp_steps(&self) -> Option<u64> {
+        let o = &self.obl;
+        let ramp = o.symmetries_ramp?;
+        (o.symmetries_from_level == Some(o.level)).then(|| {
+            let per_game = self.updates() * self.ppo.rollout_steps as u64;
+            ((ramp as f64 * per_game as f64).ceil() as u64).max(1)
+        })
     }
 }
 
@@ -222,6 +244,21 @@ impl OblConfig {
                 "obl.symmetries_from_level",
                 "is read by OBL levels; this config trains no OBL level (obl.level = 0)",
             );
+        }
+        if let Some(ramp) = o.symmetries_ramp {
+            if !(ramp > 0.0 && ramp <= 1.0) {
+                return bad(
+                    "obl.symmetries_ramp",
+                    "must be a fraction of the level's steps in (0, 1]",
+                );
+            }
+            if o.symmetries_from_level.is_none() {
+                return bad(
+                    "obl.symmetries_ramp",
+                    "is read at the level the symmetries come in: set \
+                     obl.symmetries_from_level too",
+                );
+            }
         }
         if o.symmetries_from_level == Some(0) {
             return bad(

@@ -179,7 +179,8 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             *memory = state.belief_hidden;
         }
         trainer.update = state.update;
-        (trainer.actor).restore(&state.episodes, state.history, state.hidden)?;
+        let steps = state.update * trainer.config.ppo.rollout_steps as u64;
+        (trainer.actor).restore(steps, &state.episodes, state.history, state.hidden)?;
         Ok(trainer)
     }
 }

@@ -222,6 +222,8 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
     /// total from the next update on.
     pub fn set_total_steps(&mut self, total_steps: u64) {
         self.config.ppo.total_steps = total_steps;
+        let ramp = self.config.symmetry_ramp_steps();
+        self.actor.set_symmetry_ramp(ramp);
     }
     pub fn is_done(&self) -> bool {
         self.update >= self.config.updates()
