@@ -290,11 +290,21 @@ fn tiny_obl_levels(dir: &std::path::Path) -> (TrainConfig, TrainConfig) {
     (one, two)
 }
 
+/// `config` (an OBL level) with Other-Play's symmetries coming in at its level over the
+/// whole run (`obl.symmetries_ramp = 1`): games dealt before a checkpoint, some with and some
+/// without them, must see through the same ones after a resume.
+fn ramped(mut config: TrainConfig) -> TrainConfig {
+    config.algorithm.symmetries = SymmetrySet::Both;
+    config.obl.symmetries_from_level = Some(config.obl.level);
+    config.obl.symmetries_ramp = Some(1.0);
+    config
+}
+
 /// Exact resume, for Other-Play (per-seat symmetries drawn by episode) and for Off-Belief
 /// Learning: level 1 (beliefs and level-0 moves drawn by step) and level 2 (the belief
 /// read from the checkpoint, memories rebuilt from the saved histories), level 2 also with
 /// Other-Play's symmetries (partners and bootstrap in each seat's view, the belief reading
-/// the true game).
+/// the true game), and with them brought in over the run ([`ramped`]).
 #[test]
 fn resume_continues_exactly_like_an_uninterrupted_run() {
     let tmp = tempdir("resume");
@@ -317,8 +327,9 @@ fn resume_continues_exactly_like_an_uninterrupted_run() {
                 symmetries: SymmetrySet::Both,
                 ..obl2.algorithm.clone()
             },
-            ..obl2
+            ..obl2.clone()
         },
+        ramped(obl2),
     ];
     for config in configs {
         let whole = one_thread(|| {
@@ -339,6 +350,14 @@ fn resume_continues_exactly_like_an_uninterrupted_run() {
             drop(t);
             let mut t = Trainer::<MlpEncoder>::resume(&path).unwrap();
             assert_eq!(t.update_count(), 2);
+            if config.obl.symmetries_ramp.is_some() {
+                // Mid-ramp: some seats see through a symmetry, some through none.
+                let rows = config.ppo.num_envs * 2;
+                let drawn = (0..rows)
+                    .filter(|&r| !t.row_symmetry(r).is_identity())
+                    .count();
+                assert!(0 < drawn && drawn < rows, "{drawn} of {rows} rows");
+            }
             for _ in 0..2 {
                 t.update().unwrap();
             }
