@@ -6,6 +6,7 @@
 //! columns exactly as this one does.
 
 use crate::config::{ColourNames, TrainConfig};
+use crate::distribution::unit_of;
 use crate::error::TrainError;
 use crate::seen::see_through;
 use std::ops::Range;
@@ -90,17 +91,15 @@ impl Actor {
         let env = VecEnv::<f32>::new(game, options)?;
         let s = config.algorithm.symmetries;
         let symmetries = Symmetry::enumerate(&game, s.colours(), s.rotations(), false);
-        let mut actor = Actor::new(
+        Ok(Actor::new(
             env,
             seed,
             env_seed(seed),
             symmetries,
+            config.symmetry_ramp_steps(),
             config.network.colours,
             hidden,
-        );
-        actor.ramp_steps = config.symmetry_ramp_steps();
-        actor.redraw_symmetries();
-        Ok(actor)
+        ))
     }
 
     /// Bring the symmetries in over `ramp_steps` steps per game (`None`: in every game),
@@ -109,22 +108,15 @@ impl Actor {
         self.ramp_steps = ramp_steps;
     }
 
-    /// Every game's current episode's symmetries as they were drawn when it was dealt.
-    fn redraw_symmetries(&mut self) {
-        for i in 0..self.env.num_envs() {
-            self.draw_symmetries(i);
-            self.replay_colours(i);
-        }
-    }
-
     /// `env`'s games seen through `symmetries` (each seat draws one per episode from
-    /// `seed`) with its colours named as `colours` says, every memory of width `hidden`
-    /// zeroed.
+    /// `seed`; brought in over `ramp_steps` steps when given, [`Actor::set_symmetry_ramp`])
+    /// with its colours named as `colours` says, every memory of width `hidden` zeroed.
     pub fn new(
         env: VecEnv<f32>,
         seed: u64,
         env_seed: u64,
         symmetries: Vec<Symmetry>,
+        ramp_steps: Option<u64>,
         colours: ColourNames,
         hidden: usize,
     ) -> Actor {
@@ -141,7 +133,7 @@ impl Actor {
             encoding,
             symmetries,
             steps: 0,
-            ramp_steps: None,
+            ramp_steps,
             row_sym: vec![(identity, identity); n * p],
             labels: colours
                 .naming()
@@ -198,10 +190,15 @@ impl Actor {
         self.row_sym.iter().map(|s| s.0).collect()
     }
 
-    /// The share of games dealt after `steps` steps that draw symmetries (1 without a ramp).
-    fn symmetry_share(&self, steps: u64) -> f64 {
-        self.ramp_steps
-            .map_or(1.0, |ramp| (steps as f64 / ramp as f64).min(1.0))
+    /// Whether game `env`'s current episode (drawing from `episode_stream`) sees through
+    /// drawn symmetries: always without a ramp; with one, when the episode's own uniform
+    /// falls under the share at the step it was dealt, which its actions so far date.
+    fn draws_symmetries(&self, env: usize, episode_stream: u64) -> bool {
+        let Some(ramp) = self.ramp_steps else {
+            return true;
+        };
+        let dealt_at = self.steps.saturating_sub(self.history[env].len() as u64);
+        unit_of(derive_seed(episode_stream, 0x200)) < (dealt_at as f64 / ramp as f64).min(1.0)
     }
 
     /// Other-Play: each seat of game `env` draws its own symmetry for the game's current
@@ -215,9 +212,7 @@ impl Actor {
             derive_seed(derive_seed(self.seed, 0x0B), env as u64),
             self.env.episodes(env),
         );
-        let dealt_at = self.steps.saturating_sub(self.history[env].len() as u64);
-        let uniform = (derive_seed(episode_stream, 0x200) >> 11) as f64 / (1u64 << 53) as f64;
-        let draws = uniform < self.symmetry_share(dealt_at);
+        let draws = self.draws_symmetries(env, episode_stream);
         let identity = Symmetry::identity(&self.game);
         for s in 0..p {
             let pick = derive_seed(episode_stream, s as u64) % k;
@@ -400,7 +395,10 @@ impl Actor {
         self.history = history;
         self.memory = memory;
         self.steps = steps;
-        self.redraw_symmetries();
+        for i in 0..self.env.num_envs() {
+            self.draw_symmetries(i);
+            self.replay_colours(i);
+        }
         Ok(())
     }
 
@@ -463,17 +461,11 @@ mod tests {
             )
             .unwrap();
             let mut actor = Actor::for_run(&config, 3, MlpEncoder::encoding(), 4).unwrap();
-            let (rows, l, na) = (actor.rows(), actor.obs_len(), actor.n_actions());
-            let (mut obs, mut masks) = (vec![0f32; rows * l], vec![0f32; rows * na]);
+            let na = actor.n_actions();
             let mut rng = ChaCha8Rng::seed_from_u64(11);
             let (mut narrow, mut wide) = (0, 0);
             for _ in 0..400 {
-                actor.view(&mut obs, &mut masks);
-                let mut joint = vec![0u32; rows];
-                for (r, action) in joint.iter_mut().enumerate() {
-                    let span = actor.legal_span(r);
-                    let mask = &masks[r * na..][..na];
-                    let legal: Vec<usize> = (0..na).filter(|&a| mask[a] > 0.5).collect();
+                step_randomly(&mut actor, &mut rng, |r, legal, span| {
                     assert!(!legal.is_empty(), "{game}: row {r} has no legal action");
                     assert!(
                         legal.iter().all(|a| span.contains(a)),
@@ -484,11 +476,7 @@ mod tests {
                     } else {
                         wide += 1;
                     }
-                    let a = legal[(rng.next_u64() % legal.len() as u64) as usize];
-                    *action = actor.to_true_action(r, a) as u32;
-                }
-                let acting = actor.env().acting_seats().to_vec();
-                actor.step(&joint, &acting).unwrap();
+                });
             }
             // Both kinds of span were met: waiting seats and substeps off MOVE, and MOVE.
             assert!(
@@ -498,26 +486,37 @@ mod tests {
         }
     }
 
+    /// One step of every game, each row playing a uniformly random legal action of its
+    /// view, after `look(row, the view's legal actions, the row's legal span)`.
+    fn step_randomly(
+        actor: &mut Actor,
+        rng: &mut ChaCha8Rng,
+        mut look: impl FnMut(usize, &[usize], Range<usize>),
+    ) {
+        let (rows, na) = (actor.rows(), actor.n_actions());
+        let (mut obs, mut masks) = (vec![0f32; rows * actor.obs_len()], vec![0f32; rows * na]);
+        actor.view(&mut obs, &mut masks);
+        let mut joint = vec![0u32; rows];
+        for (r, action) in joint.iter_mut().enumerate() {
+            let mask = &masks[r * na..][..na];
+            let legal: Vec<usize> = (0..na).filter(|&a| mask[a] > 0.5).collect();
+            look(r, &legal, actor.legal_span(r));
+            let a = legal[(rng.next_u64() % legal.len() as u64) as usize];
+            *action = actor.to_true_action(r, a) as u32;
+        }
+        let acting = actor.env().acting_seats().to_vec();
+        actor.step(&joint, &acting).unwrap();
+    }
+
     /// Random play of `actor` for `steps` steps; per game dealt (its step, whether any of
     /// its seats drew a symmetry other than the identity).
     fn play_randomly(actor: &mut Actor, steps: usize, rng: &mut ChaCha8Rng) -> Vec<(u64, bool)> {
-        let (rows, l, na) = (actor.rows(), actor.obs_len(), actor.n_actions());
-        let p = actor.game.players();
-        let (mut obs, mut masks) = (vec![0f32; rows * l], vec![0f32; rows * na]);
+        let (rows, p) = (actor.rows(), actor.game.players());
         let drawn =
             |actor: &Actor, i: usize| (0..p).any(|s| !actor.symmetry(i * p + s).is_identity());
         let mut deals: Vec<(u64, bool)> = (0..rows / p).map(|i| (0, drawn(actor, i))).collect();
         for _ in 0..steps {
-            actor.view(&mut obs, &mut masks);
-            let mut joint = vec![0u32; rows];
-            for (r, action) in joint.iter_mut().enumerate() {
-                let mask = &masks[r * na..][..na];
-                let legal: Vec<usize> = (0..na).filter(|&a| mask[a] > 0.5).collect();
-                let a = legal[(rng.next_u64() % legal.len() as u64) as usize];
-                *action = actor.to_true_action(r, a) as u32;
-            }
-            let acting = actor.env().acting_seats().to_vec();
-            actor.step(&joint, &acting).unwrap();
+            step_randomly(actor, rng, |_, _, _| {});
             for i in 0..rows / p {
                 if actor.history[i].is_empty() {
                     deals.push((actor.steps, drawn(actor, i)));

@@ -7,7 +7,13 @@ use rand_chacha::rand_core::Rng;
 
 /// A uniform draw in [0, 1) with 53 random bits: what [`sample_row`] takes as `u`.
 pub fn unit_draw(rng: &mut impl Rng) -> f64 {
-    (rng.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+    unit_of(rng.next_u64())
+}
+
+/// The uniform in [0, 1) that 64 random `bits` give (their top 53): [`unit_draw`] of one
+/// draw, or of a counter-based derivation (`derive_seed`) that needs no generator.
+pub fn unit_of(bits: u64) -> f64 {
+    (bits >> 11) as f64 / (1u64 << 53) as f64
 }
 
 /// The action index the acting seat of `game` samples from its row of `logits`, over its
