@@ -6,10 +6,11 @@
 # root:
 #   LEVELS=4 YOKAI=/work/bin/yokai sh docs/results/data/obl-op-ramp/run.sh
 # Level 5 and above (no ramp there: it acts only at the switch level) start from
-# $OUT/level-(L-1).
+# $OUT/level-(L-1), or where that is missing from data/obl-chain-weights/op-ramp-level-(L-1).
 export YOKAI=${YOKAI:-yokai} OUT=${OUT:-runs/obl-op-ramp} SEEDS=${SEEDS:-0..3}
 export PRESET=obl-cpu-op
 export SET="--set obl.symmetries_from_level=4 --set obl.symmetries_ramp=0.5"
 for L in ${LEVELS:-4}; do
-  LEVEL=$L FROM=op-from-4-all-level-$((L - 1)) sh scripts/obl-level.sh || exit 1
+  if [ $L -eq 4 ]; then FROM=op-from-4-all-level-3; else FROM=op-ramp-level-$((L - 1)); fi
+  LEVEL=$L FROM=$FROM sh scripts/obl-level.sh || exit 1
 done
