@@ -177,22 +177,29 @@ mod tests {
         );
     }
 
-    /// `obl-cpu-op` is the chain measured in docs/results/obl-other-play.md: each level
-    /// below 5 trains as `obl-cpu-long` does, each level from 5 as `obl-cpu-long` with
-    /// `--set algorithm.symmetries=both`, so those measurements are the preset's.
+    /// `obl-cpu-op` is the chain measured in docs/results/obl-op-ramp.md: each level below
+    /// 4 trains as `obl-cpu-long` does, each level from 4 as `obl-cpu-long` with
+    /// `--set algorithm.symmetries=both`, brought in over level 4's first half (the ramp acts
+    /// at level 4 only), so those measurements are the preset's.
     #[test]
-    fn obl_cpu_op_is_obl_cpu_long_with_the_symmetries_from_level_5() {
+    fn obl_cpu_op_is_obl_cpu_long_with_the_symmetries_ramped_in_at_level_4() {
         let both: crate::config::Override = "algorithm.symmetries=both".parse().unwrap();
         let (long, _) = TrainConfig::named("obl-cpu-long", &[]).unwrap();
         let (with_both, _) = TrainConfig::named("obl-cpu-long", &[both]).unwrap();
         let (op, _) = TrainConfig::named("obl-cpu-op", &[]).unwrap();
         let out = Path::new("runs/x");
-        let plan = |c: &TrainConfig| super::plan(c, &[1, 2, 4, 5, 7], out).unwrap();
+        let plan = |c: &TrainConfig| super::plan(c, &[1, 2, 3, 4, 5, 7], out).unwrap();
         for ((op, long), with_both) in plan(&op).iter().zip(plan(&long)).zip(plan(&with_both)) {
             let mut c = op.config.clone();
-            assert_eq!(c.obl.symmetries_from_level, Some(5));
+            assert_eq!(c.obl.symmetries_from_level, Some(4));
+            assert_eq!(c.obl.symmetries_ramp, Some(0.5));
+            // Half of each game's steps at level 4 (the actor counts steps per game).
+            let ramp_steps =
+                (op.level == 4).then_some(c.updates() * c.ppo.rollout_steps as u64 / 2);
+            assert_eq!(c.symmetry_ramp_steps(), ramp_steps, "level {}", op.level);
             c.obl.symmetries_from_level = None;
-            let measured = if op.level < 5 { &long } else { &with_both };
+            c.obl.symmetries_ramp = None;
+            let measured = if op.level < 4 { &long } else { &with_both };
             assert_eq!(c, measured.config, "level {}", op.level);
         }
     }
