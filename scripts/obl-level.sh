@@ -32,18 +32,19 @@ if [ "$L" -gt 1 ] && [ ! -d "$OUT/level-$((L - 1))" ]; then
   FROM=${FROM:?level $((L - 1)) is not in $OUT: FROM names a folder of data/obl-chain-weights}
   cp -r "docs/results/data/obl-chain-weights/$FROM" "$OUT/level-$((L - 1))" || exit 1
 fi
+# A new level starts its log and passes $SET (split into words on purpose: it holds --set
+# options); a resumed one appends to its log, and its checkpoints' configs govern.
 if [ "${RESUME:-0}" = 1 ]; then
+  PART="level $L (resumed part)" ARGS=--resume
   echo "level $L resumed $(date -u +%T)" >> "$OUT/times.txt"
-  /usr/bin/time -f "level $L (resumed part): %e s wall, %U s user" -a -o "$OUT/times.txt" \
-    $YOKAI train "$PRESET" --levels "$L" --seeds "$SEEDS" --resume \
-      --eval-games 0 --out "$OUT" >> "$OUT/train-$L.log" 2>&1 || exit 1
 else
+  PART="level $L" ARGS=$SET
   echo "level $L start $(date -u +%T)" >> "$OUT/times.txt"
-  # $SET is split into words on purpose: it holds --set options.
-  /usr/bin/time -f "level $L: %e s wall, %U s user" -a -o "$OUT/times.txt" \
-    $YOKAI train "$PRESET" --levels "$L" --seeds "$SEEDS" $SET \
-      --eval-games 0 --out "$OUT" > "$OUT/train-$L.log" 2>&1 || exit 1
+  : > "$OUT/train-$L.log"
 fi
+/usr/bin/time -f "$PART: %e s wall, %U s user" -a -o "$OUT/times.txt" \
+  $YOKAI train "$PRESET" --levels "$L" --seeds "$SEEDS" $ARGS \
+    --eval-games 0 --out "$OUT" >> "$OUT/train-$L.log" 2>&1 || exit 1
 echo "level $L eval start $(date -u +%T)" >> "$OUT/times.txt"
 $YOKAI eval "$OUT/level-$L" --games 5000 -o "$OUT/level-$L/eval" > "$OUT/eval-$L.log" 2>&1 || exit 1
 echo "level $L eval end $(date -u +%T)" >> "$OUT/times.txt"

@@ -7,10 +7,5 @@
 #   LEVELS="4 5" YOKAI=/work/bin/yokai sh docs/results/data/obl-op-ramp-held-out/run.sh
 # Level 5 and above start from $OUT/level-(L-1), or where that is missing from
 # data/obl-chain-weights/op-ramp-held-out-level-(L-1).
-export YOKAI=${YOKAI:-yokai} OUT=${OUT:-runs/obl-op-ramp-held-out} SEEDS=${SEEDS:-3..6}
-export PRESET=obl-cpu-op
-export SET="--set obl.symmetries_from_level=4 --set obl.symmetries_ramp=0.5"
-for L in ${LEVELS:-4}; do
-  if [ $L -eq 4 ]; then FROM=held-out-level-3; else FROM=op-ramp-held-out-level-$((L - 1)); fi
-  LEVEL=$L FROM=$FROM sh scripts/obl-level.sh || exit 1
-done
+OUT=${OUT:-runs/obl-op-ramp-held-out} SEEDS=${SEEDS:-3..6} START=held-out-level-3 \
+  KEPT=op-ramp-held-out exec sh docs/results/data/obl-op-ramp/run.sh
