@@ -6,7 +6,9 @@
 #   ARMS="base no-belief no-pool" YOKAI=/work/bin/yokai sh docs/results/data/cpu-40M-ablations/run.sh
 # Each arm: `yokai train cpu $SET --eval-games 0 --out $OUT/ARM` timed by /usr/bin/time in
 # $OUT/times.txt, then `yokai eval $OUT/ARM belief greedy --games 5000 -o $OUT/ARM/eval`.
-# Arms run one after another, so each trains on the whole machine.
+# Arms run one after another, so each trains on the whole machine. Besides the levers off
+# (no-belief, no-pool, no-end-term, no-entropy-norm, whole-shaping, two-epochs), two arms
+# raise the belief loss's weight (belief-1, belief-2).
 set -u
 YOKAI=${YOKAI:-yokai} OUT=${OUT:-runs/cpu-40M-ablations}
 mkdir -p "$OUT"
@@ -16,6 +18,11 @@ for ARM in ${ARMS:-base no-belief no-pool}; do
     no-belief) SET="--set ppo.belief_aux=0.0" ;;
     no-pool) SET="--set network.pointer_pool=false" ;;
     no-end-term) SET="--set ppo.end_lookahead=0.0" ;;
+    no-entropy-norm) SET="--set ppo.entropy_normalized=false" ;;
+    whole-shaping) SET="--set ppo.shaping_fraction=1.0" ;;
+    two-epochs) SET="--set ppo.epochs=2" ;;
+    belief-1) SET="--set ppo.belief_aux=1.0" ;;
+    belief-2) SET="--set ppo.belief_aux=2.0" ;;
     *) echo "unknown arm $ARM" >&2; exit 2 ;;
   esac
   echo "$ARM start $(date -u +%T)" >> "$OUT/times.txt"
