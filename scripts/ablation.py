@@ -1,16 +1,28 @@
 #!/usr/bin/env python3
 """Ablation of training levers: each variant of a base config is trained on the same seeds
-and budget, then every seed's policy plays self-play games with `yokai eval`. Prints a
-Markdown table (SP R per seed, mean ± SE over seeds, wall clock per seed) and writes it to
-OUT/ablation.md.
+and budget, then evaluated with `yokai eval`. Prints a Markdown table (SP R per seed, mean ±
+SE over seeds, wall clock) and writes it to OUT/ablation.md.
 
     scripts/ablation.py --base quick --steps 600000 --seeds 0,1,2 --games 1000 \\
         baseline dense:network.head=dense cluster:ppo.cluster_shaping=1.0
 
+    scripts/ablation.py --base cpu --together --partners belief,greedy --games 5000 \\
+        --out runs/cpu-40M-ablations base no-belief:ppo.belief_aux=0.0
+
 A variant is `NAME` (the base as it is) or `NAME:key=value,key=value` with dotted keys of
-the training config (docs/training.md); values are TOML values (`1.0`, `true`, `"dense"`
-or a bare word, taken as a string). Run it with nothing else on the machine: the wall clock
-is part of the table.
+the training config (docs/training.md), passed to `yokai train` as `--set key=value` (which
+refuses an unknown field or a bad value). Each variant trains into OUT/NAME.
+
+- By default the seeds train one after another (`--threads` each) and each seed plays
+  `--games` self-play games alone (OUT/NAME/eval-seed-N).
+- `--together` trains a variant's seeds side by side in one `yokai train` call, as the
+  issue's targets are measured (3 seeds side by side on the machine), and the wall clock is
+  the variant's; the variant is then evaluated as a whole: every pair of its seeds and each
+  seed with every `--partners` bot, `--games` per pair (`yokai eval OUT/NAME [PARTNERS]
+  --games G -o OUT/NAME/eval`), and the table gains cross-play between seeds. `--partners`
+  alone also evaluates as a whole.
+
+Run it with nothing else on the machine: the wall clock is part of the table.
 """
 import argparse
 import json
@@ -19,106 +31,122 @@ import pathlib
 import subprocess
 import sys
 import time
-import tomllib
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 
 
-def toml_value(text):
-    try:
-        return tomllib.loads(f"v = {text}")["v"]
-    except tomllib.TOMLDecodeError:
-        return text  # a bare word: a string
-
-
-def dump_toml(config):
-    """The config (top-level scalars and one level of tables of scalars) as TOML."""
-
-    def value(v):
-        if isinstance(v, bool):
-            return "true" if v else "false"
-        if isinstance(v, str):
-            return json.dumps(v)
-        return repr(v)
-
-    lines = [f"{k} = {value(v)}" for k, v in config.items() if not isinstance(v, dict)]
-    for k, table in config.items():
-        if isinstance(table, dict):
-            lines += ["", f"[{k}]"] + [f"{kk} = {value(vv)}" for kk, vv in table.items()]
-    return "\n".join(lines) + "\n"
-
-
-def variant_config(base, spec):
+def variant_sets(spec):
+    """(NAME, ["--set", "key=value", ...]) of a variant `NAME[:key=value,...]`."""
     name, _, changes = spec.partition(":")
-    config = json.loads(json.dumps(base))
+    sets = []
     for change in filter(None, changes.split(",")):
-        key, eq, text = change.partition("=")
+        key, eq, _ = change.partition("=")
         if not eq or "." not in key:
             sys.exit(f"variant {name!r}: {change!r} is not key.sub=value")
-        table, field = key.split(".", 1)
-        config.setdefault(table, {})[field] = toml_value(text)
-    return name, config
+        sets += ["--set", change]
+    return name, sets
+
+
+def mean_se(values):
+    mean = sum(values) / len(values)
+    if len(values) < 2:
+        return mean, float("nan")
+    return mean, math.sqrt(sum((v - mean) ** 2 for v in values) / (len(values) - 1) / len(values))
+
+
+def seeds_of_matrix(matrix, vdir, seeds):
+    """SP R per seed (the diagonal, in `seeds` order) and XP R of every pair of different
+    seeds, from the matrix.json of `yokai eval vdir ...`."""
+    name = {seed: str(vdir / f"seed-{seed}") for seed in seeds}
+
+    def policy(label):
+        for seed, path in name.items():
+            if label == path or label.startswith(path + " "):
+                return seed
+        return None
+
+    sp, xp = {}, []
+    for entry in matrix:
+        a, b = policy(entry["row"]), policy(entry["col"])
+        if a is None or b is None:
+            continue
+        if a == b:
+            sp[a] = entry["metrics"]["reward"]
+        else:
+            xp.append(entry["metrics"]["reward"])
+    missing = [s for s in seeds if s not in sp]
+    if missing:
+        sys.exit(f"{vdir}/eval/matrix.json: no self-play of seed(s) {missing}")
+    return [sp[s] for s in seeds], xp
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("variants", nargs="+", help="NAME or NAME:key=value,...")
-    ap.add_argument("--base", default="quick", help="a preset in configs/ or a TOML file")
-    ap.add_argument("--steps", type=int, required=True, help="environment steps per seed")
+    ap.add_argument("--base", default="quick", help="a preset name or a TOML file")
+    ap.add_argument("--steps", type=int, help="environment steps per seed (default: the base's)")
     ap.add_argument("--seeds", default="0,1,2")
-    ap.add_argument("--games", type=int, default=1000, help="self-play games per seed")
+    ap.add_argument("--games", type=int, default=1000, help="games per seed or per pair")
     ap.add_argument("--out", default="runs/ablation")
     ap.add_argument("--yokai", default=str(ROOT / "target/release/yokai"))
     ap.add_argument("--threads", type=int, help="worker threads per training run (default: all)")
+    ap.add_argument("--together", action="store_true",
+                    help="train a variant's seeds side by side in one call, evaluate them as a whole")
+    ap.add_argument("--partners", default="",
+                    help="bots each seed also plays with, e.g. belief,greedy (evaluates as a whole)")
     args = ap.parse_args()
 
-    base_path = pathlib.Path(args.base)
-    if not base_path.exists():
-        base_path = ROOT / "configs" / f"{args.base}.toml"
-    base = tomllib.loads(base_path.read_text())
-    base.setdefault("ppo", {})["total_steps"] = args.steps
+    variants = [variant_sets(spec) for spec in args.variants]
     seeds = [int(s) for s in args.seeds.split(",")]
+    partners = [p for p in args.partners.split(",") if p]
+    whole = args.together or bool(partners)
     out = pathlib.Path(args.out)
+    common = (["--steps", str(args.steps)] if args.steps else []) + ["--eval-games", "0"] + (
+        ["--threads", str(args.threads)] if args.threads else [])
+
+    def train(vdir, sets, seeds_arg):
+        start = time.time()
+        subprocess.run([args.yokai, "train", args.base, *sets, "--seeds", seeds_arg, *common,
+                        "--out", str(vdir)], check=True, stdout=subprocess.DEVNULL)
+        return time.time() - start
+
     rows = []
-    for spec in args.variants:
-        name, config = variant_config(base, spec)
+    for (name, sets), spec in zip(variants, args.variants):
         vdir = out / name
         vdir.mkdir(parents=True, exist_ok=True)
-        cfg = vdir / f"{name}.toml"
-        cfg.write_text(dump_toml(config))
-        rewards, seconds = [], []
-        for seed in seeds:
-            start = time.time()
-            subprocess.run(
-                [args.yokai, "train", str(cfg), "--seeds", str(seed), "--eval-games", "0",
-                 "--out", str(vdir)]
-                + (["--threads", str(args.threads)] if args.threads else []),
-                check=True, stdout=subprocess.DEVNULL,
-            )
-            seconds.append(time.time() - start)
-            edir = vdir / f"eval-seed-{seed}"
-            subprocess.run(
-                [args.yokai, "eval", str(vdir / f"seed-{seed}"), "--games", str(args.games),
-                 "--out", str(edir)],
-                check=True, stdout=subprocess.DEVNULL,
-            )
-            rewards.append(json.loads((edir / "matrix.json").read_text())[0]["metrics"]["reward"])
-            print(f"{name} seed {seed}: SP R {rewards[-1]:.2f} in {seconds[-1]:.0f} s",
-                  file=sys.stderr)
-        mean = sum(rewards) / len(rewards)
-        se = (math.sqrt(sum((r - mean) ** 2 for r in rewards) / (len(rewards) - 1) / len(rewards))
-              if len(rewards) > 1 else float("nan"))
-        rows.append((spec, rewards, mean, se, sum(seconds) / len(seconds)))
-    table = [
-        f"base `{base_path.name}`, {args.steps:,} steps, seeds {args.seeds}, "
-        f"{args.games:,} self-play games per seed",
-        "",
-        "| variant | SP R per seed | mean ± SE | s per seed |",
-        "|---|---|---|---|",
-    ] + [
-        f"| `{spec}` | {', '.join(f'{r:.2f}' for r in rewards)} | {mean:.2f} ± {se:.2f} | {secs:.0f} |"
-        for spec, rewards, mean, se, secs in rows
-    ]
+        if args.together:
+            seconds = train(vdir, sets, args.seeds)
+            print(f"{name}: seeds {args.seeds} trained together in {seconds:.0f} s", file=sys.stderr)
+        else:
+            seconds = sum(train(vdir, sets, str(seed)) for seed in seeds) / len(seeds)
+        if whole:
+            edir = vdir / "eval"
+            subprocess.run([args.yokai, "eval", str(vdir), *partners, "--games", str(args.games),
+                            "-o", str(edir)], check=True, stdout=subprocess.DEVNULL)
+            rewards, xp = seeds_of_matrix(json.loads((edir / "matrix.json").read_text()), vdir, seeds)
+        else:
+            rewards, xp = [], []
+            for seed in seeds:
+                edir = vdir / f"eval-seed-{seed}"
+                subprocess.run([args.yokai, "eval", str(vdir / f"seed-{seed}"), "--games",
+                                str(args.games), "--out", str(edir)],
+                               check=True, stdout=subprocess.DEVNULL)
+                rewards.append(json.loads((edir / "matrix.json").read_text())[0]["metrics"]["reward"])
+        print(f"{name}: SP R {', '.join(f'{r:.2f}' for r in rewards)}", file=sys.stderr)
+        rows.append((spec, rewards, *mean_se(rewards), xp, seconds))
+
+    steps = f"{args.steps:,} steps" if args.steps else "the base's steps"
+    games = f"{args.games:,} games per pair" if whole else f"{args.games:,} self-play games per seed"
+    clock = "s for the seeds together" if args.together else "s per seed"
+    head = ["variant", "SP R per seed", "mean ± SE"] + (["XP R"] if whole else []) + [clock]
+    table = [f"base `{args.base}`, {steps}, seeds {args.seeds}, {games}", "",
+             "| " + " | ".join(head) + " |", "|---" * len(head) + "|"]
+    for spec, rewards, mean, se, xp, secs in rows:
+        cells = [f"`{spec}`", ", ".join(f"{r:.2f}" for r in rewards), f"{mean:.2f} ± {se:.2f}"]
+        if whole:
+            xm, xs = mean_se(xp) if xp else (float("nan"), float("nan"))
+            cells.append(f"{xm:.2f} ± {xs:.2f}")
+        table.append("| " + " | ".join(cells + [f"{secs:.0f}"]) + " |")
     text = "\n".join(table) + "\n"
     (out / "ablation.md").write_text(text)
     print(text)

@@ -239,3 +239,93 @@ def test_belief_curve_weights_each_update_by_its_slots(tmp_path):
     assert out.returncode != 0 and "2 updates, none at 3" in out.stderr
     out = run_belief_curve("--at", "1", tmp_path)
     assert out.returncode != 0 and "only OBL levels ≥ 2 train a belief" in out.stderr
+
+
+STUB_YOKAI = r'''#!/usr/bin/env python3
+"""A stand-in for `yokai` that logs its command line and writes what ablation.py reads."""
+import json, pathlib, sys
+argv = sys.argv[1:]
+with open(pathlib.Path(__file__).with_name("calls.log"), "a") as log:
+    log.write(json.dumps(argv) + "\n")
+if argv[0] == "train":
+    out = pathlib.Path(argv[argv.index("--out") + 1])
+    for seed in argv[argv.index("--seeds") + 1].split(","):
+        (out / f"seed-{seed}").mkdir(parents=True, exist_ok=True)
+elif argv[0] == "eval":
+    o = argv.index("-o") + 1 if "-o" in argv else argv.index("--out") + 1
+    target = pathlib.Path(argv[1])
+    seeds = sorted(int(p.name[5:]) for p in target.glob("seed-*")) if target.name[:5] != "seed-" else [int(target.name[5:])]
+    label = lambda s: f"{target if target.name[:5] != 'seed-' else target.parent}/seed-{s} (END > 0.6, T = 0.25)"
+    partners = [a for a in argv[2:o - 1] if not a.startswith("--") and not a.isdigit()]
+    entries = [{"row": label(a), "col": label(b), "metrics": {"reward": 1.0 + a if a == b else 10.0 + a + b}}
+               for i, a in enumerate(seeds) for b in seeds[i:]]
+    entries += [{"row": label(a), "col": p, "metrics": {"reward": 0.5}} for a in seeds for p in partners]
+    pathlib.Path(argv[o]).mkdir(parents=True, exist_ok=True)
+    (pathlib.Path(argv[o]) / "matrix.json").write_text(json.dumps(entries))
+'''
+
+
+def run_ablation(tmp_path, *args):
+    stub = tmp_path / "yokai"
+    stub.write_text(STUB_YOKAI)
+    stub.chmod(0o755)
+    out = subprocess.run(
+        [sys.executable, str(SCRIPTS / "ablation.py"), "--yokai", str(stub), "--out", str(tmp_path / "abl"), *args],
+        capture_output=True,
+        text=True,
+    )
+    log = tmp_path / "calls.log"
+    calls = [json.loads(l) for l in log.read_text().splitlines()] if log.exists() else []
+    return out, calls
+
+
+def test_ablation_together_trains_each_variant_once_with_its_sets_and_evaluates_it_whole(tmp_path):
+    out, calls = run_ablation(
+        tmp_path, "--base", "cpu", "--together", "--partners", "belief,greedy", "--games", "5000",
+        "base", "no-belief:ppo.belief_aux=0.0,network.pointer_pool=false",
+    )
+    assert out.returncode == 0, out.stderr
+    abl = tmp_path / "abl"
+    # The commands data/cpu-40M-ablations/run.sh ran per arm (its seeds were the default 0..3).
+    assert calls == [
+        ["train", "cpu", "--seeds", "0,1,2", "--eval-games", "0", "--out", f"{abl}/base"],
+        ["eval", f"{abl}/base", "belief", "greedy", "--games", "5000", "-o", f"{abl}/base/eval"],
+        ["train", "cpu", "--set", "ppo.belief_aux=0.0", "--set", "network.pointer_pool=false",
+         "--seeds", "0,1,2", "--eval-games", "0", "--out", f"{abl}/no-belief"],
+        ["eval", f"{abl}/no-belief", "belief", "greedy", "--games", "5000", "-o", f"{abl}/no-belief/eval"],
+    ]
+    rows = [l for l in out.stdout.splitlines() if l.startswith("| `")]
+    # SP = 1 + seed (1, 2, 3: mean 2, SE 0.58); XP = 10 + a + b over pairs (11, 12, 13: 12, SE 0.58).
+    assert rows[0].startswith("| `base` | 1.00, 2.00, 3.00 | 2.00 ± 0.58 | 12.00 ± 0.58 | ")
+    assert "| variant | SP R per seed | mean ± SE | XP R | s for the seeds together |\n|---|---|---|---|---|\n" in out.stdout
+    assert (abl / "ablation.md").read_text() + "\n" == out.stdout  # print adds one newline
+
+
+def test_ablation_by_default_trains_seed_by_seed_and_plays_each_alone(tmp_path):
+    out, calls = run_ablation(tmp_path, "--base", "quick", "--steps", "600000", "--seeds", "0,1", "--threads", "1", "x:ppo.lr=1e-3")
+    assert out.returncode == 0, out.stderr
+    abl = tmp_path / "abl"
+    assert [c[0] for c in calls] == ["train", "train", "eval", "eval"]
+    assert calls[0] == ["train", "quick", "--set", "ppo.lr=1e-3", "--seeds", "0", "--steps", "600000",
+                        "--eval-games", "0", "--threads", "1", "--out", f"{abl}/x"]
+    assert calls[2] == ["eval", f"{abl}/x/seed-0", "--games", "1000", "--out", f"{abl}/x/eval-seed-0"]
+    assert "| variant | SP R per seed | mean ± SE | s per seed |\n|---|---|---|---|\n" in out.stdout
+    assert "| `x:ppo.lr=1e-3` | 1.00, 2.00 | 1.50 ± 0.50 | " in out.stdout
+
+
+def test_ablation_refuses_a_variant_that_is_not_key_equals_value(tmp_path):
+    out, calls = run_ablation(tmp_path, "--steps", "1000", "good", "bad:lr=3")
+    assert out.returncode != 0 and calls == []
+    assert "variant 'bad': 'lr=3' is not key.sub=value" in out.stderr
+
+
+def test_ablation_reads_a_real_evaluations_diagonal_and_pairs():
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("ablation", SCRIPTS / "ablation.py")
+    ablation = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(ablation)
+    data = SCRIPTS.parent / "docs/results/data/cpu-40M-ablations/base/matrix.json"
+    sp, xp = ablation.seeds_of_matrix(json.loads(data.read_text()), pathlib.Path("runs/cpu-40M-ablations/base"), [0, 1, 2])
+    assert [round(r, 2) for r in sp] == [6.01, 6.04, 5.92]  # docs/results/cpu-40M-ablations.md
+    assert round(sum(xp) / len(xp), 2) == 5.73 and len(xp) == 3
