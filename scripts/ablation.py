@@ -26,11 +26,12 @@ Run it with nothing else on the machine: the wall clock is part of the table.
 """
 import argparse
 import json
-import math
 import pathlib
 import subprocess
 import sys
 import time
+
+from stats import mean_se
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 
@@ -45,13 +46,6 @@ def variant_sets(spec):
             sys.exit(f"variant {name!r}: {change!r} is not key.sub=value")
         sets += ["--set", change]
     return name, sets
-
-
-def mean_se(values):
-    mean = sum(values) / len(values)
-    if len(values) < 2:
-        return mean, float("nan")
-    return mean, math.sqrt(sum((v - mean) ** 2 for v in values) / (len(values) - 1) / len(values))
 
 
 def seeds_of_matrix(matrix, vdir, seeds):

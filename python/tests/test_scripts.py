@@ -322,6 +322,7 @@ def test_ablation_refuses_a_variant_that_is_not_key_equals_value(tmp_path):
 def test_ablation_reads_a_real_evaluations_diagonal_and_pairs():
     import importlib.util
 
+    sys.path.insert(0, str(SCRIPTS))  # ablation.py imports its sibling stats.py
     spec = importlib.util.spec_from_file_location("ablation", SCRIPTS / "ablation.py")
     ablation = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(ablation)
