@@ -21,6 +21,9 @@ refuses an unknown field or a bad value). Each variant trains into OUT/NAME.
   seed with every `--partners` bot, `--games` per pair (`yokai eval OUT/NAME [PARTNERS]
   --games G -o OUT/NAME/eval`), and the table gains cross-play between seeds. `--partners`
   alone also evaluates as a whole.
+- `--resume` reads a variant whose evaluation is already in OUT/NAME (an interrupted
+  ablation, or a variant measured before, copied in) instead of training and evaluating
+  it again; its wall clock shows as –.
 
 Run it with nothing else on the machine: the wall clock is part of the table.
 """
@@ -50,14 +53,13 @@ def variant_sets(spec):
 
 def seeds_of_matrix(matrix, vdir, seeds):
     """SP R per seed (the diagonal, in `seeds` order) and XP R of every pair of different
-    seeds, from the matrix.json of `yokai eval vdir ...`."""
-    name = {seed: str(vdir / f"seed-{seed}") for seed in seeds}
+    seeds, from the matrix.json of `yokai eval vdir ...`. A policy is known by its run's
+    last path part (`seed-N`), so an evaluation made where the variant was first trained
+    (and then copied or linked into OUT) reads the same."""
+    name = {f"seed-{seed}": seed for seed in seeds}
 
     def policy(label):
-        for seed, path in name.items():
-            if label == path or label.startswith(path + " "):
-                return seed
-        return None
+        return name.get(pathlib.PurePath(label.split(" (")[0]).name)
 
     sp, xp = {}, []
     for entry in matrix:
@@ -88,6 +90,8 @@ def main():
                     help="train a variant's seeds side by side in one call, evaluate them as a whole")
     ap.add_argument("--partners", default="",
                     help="bots each seed also plays with, e.g. belief,greedy (evaluates as a whole)")
+    ap.add_argument("--resume", action="store_true",
+                    help="read variants whose evaluation is already in OUT instead of running them again")
     args = ap.parse_args()
 
     variants = [variant_sets(spec) for spec in args.variants]
@@ -104,28 +108,38 @@ def main():
                         "--out", str(vdir)], check=True, stdout=subprocess.DEVNULL)
         return time.time() - start
 
+    def evaluations(vdir):
+        """Where a variant's matrix.json files go: one for the whole, else one per seed."""
+        if whole:
+            return [vdir / "eval" / "matrix.json"]
+        return [vdir / f"eval-seed-{seed}" / "matrix.json" for seed in seeds]
+
     rows = []
     for (name, sets), spec in zip(variants, args.variants):
         vdir = out / name
-        vdir.mkdir(parents=True, exist_ok=True)
-        if args.together:
-            seconds = train(vdir, sets, args.seeds)
-            print(f"{name}: seeds {args.seeds} trained together in {seconds:.0f} s", file=sys.stderr)
+        if args.resume and all(m.exists() for m in evaluations(vdir)):
+            seconds = None
+            print(f"{name}: evaluation found in {vdir}, read as it is", file=sys.stderr)
         else:
-            seconds = sum(train(vdir, sets, str(seed)) for seed in seeds) / len(seeds)
+            vdir.mkdir(parents=True, exist_ok=True)
+            if args.together:
+                seconds = train(vdir, sets, args.seeds)
+                print(f"{name}: seeds {args.seeds} trained together in {seconds:.0f} s", file=sys.stderr)
+            else:
+                seconds = sum(train(vdir, sets, str(seed)) for seed in seeds) / len(seeds)
+            if whole:
+                subprocess.run([args.yokai, "eval", str(vdir), *partners, "--games", str(args.games),
+                                "-o", str(vdir / "eval")], check=True, stdout=subprocess.DEVNULL)
+            else:
+                for seed in seeds:
+                    subprocess.run([args.yokai, "eval", str(vdir / f"seed-{seed}"), "--games",
+                                    str(args.games), "--out", str(vdir / f"eval-seed-{seed}")],
+                                   check=True, stdout=subprocess.DEVNULL)
+        matrices = [json.loads(m.read_text()) for m in evaluations(vdir)]
         if whole:
-            edir = vdir / "eval"
-            subprocess.run([args.yokai, "eval", str(vdir), *partners, "--games", str(args.games),
-                            "-o", str(edir)], check=True, stdout=subprocess.DEVNULL)
-            rewards, xp = seeds_of_matrix(json.loads((edir / "matrix.json").read_text()), vdir, seeds)
+            rewards, xp = seeds_of_matrix(matrices[0], vdir, seeds)
         else:
-            rewards, xp = [], []
-            for seed in seeds:
-                edir = vdir / f"eval-seed-{seed}"
-                subprocess.run([args.yokai, "eval", str(vdir / f"seed-{seed}"), "--games",
-                                str(args.games), "--out", str(edir)],
-                               check=True, stdout=subprocess.DEVNULL)
-                rewards.append(json.loads((edir / "matrix.json").read_text())[0]["metrics"]["reward"])
+            rewards, xp = [m[0]["metrics"]["reward"] for m in matrices], []
         print(f"{name}: SP R {', '.join(f'{r:.2f}' for r in rewards)}", file=sys.stderr)
         rows.append((spec, rewards, *mean_se(rewards), xp, seconds))
 
@@ -140,7 +154,7 @@ def main():
         if whole:
             xm, xs = mean_se(xp) if xp else (float("nan"), float("nan"))
             cells.append(f"{xm:.2f} ± {xs:.2f}")
-        table.append("| " + " | ".join(cells + [f"{secs:.0f}"]) + " |")
+        table.append("| " + " | ".join(cells + ["–" if secs is None else f"{secs:.0f}"]) + " |")
     text = "\n".join(table) + "\n"
     (out / "ablation.md").write_text(text)
     print(text)

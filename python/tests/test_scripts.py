@@ -313,6 +313,31 @@ def test_ablation_by_default_trains_seed_by_seed_and_plays_each_alone(tmp_path):
     assert "| `x:ppo.lr=1e-3` | 1.00, 2.00 | 1.50 ± 0.50 | " in out.stdout
 
 
+def test_ablation_resume_reads_evaluated_variants_and_runs_only_the_rest(tmp_path):
+    import shutil
+
+    first, _ = run_ablation(tmp_path, "--base", "cpu", "--together", "--partners", "belief", "base")
+    assert first.returncode == 0, first.stderr
+    (tmp_path / "calls.log").unlink()
+    # The variant evaluated in its first OUT, copied into another: its matrix still names
+    # the first OUT's paths, and is read all the same.
+    shutil.copytree(tmp_path / "abl" / "base", tmp_path / "other" / "base")
+    out = subprocess.run(
+        [sys.executable, str(SCRIPTS / "ablation.py"), "--yokai", str(tmp_path / "yokai"), "--out",
+         str(tmp_path / "other"), "--base", "cpu", "--together", "--partners", "belief", "--resume",
+         "base", "lr:ppo.lr=1e-3"],
+        capture_output=True,
+        text=True,
+    )
+    assert out.returncode == 0, out.stderr
+    calls = [json.loads(l) for l in (tmp_path / "calls.log").read_text().splitlines()]
+    assert [c[:2] for c in calls] == [["train", "cpu"], ["eval", f"{tmp_path}/other/lr"]]
+    assert "base: evaluation found in" in out.stderr
+    rows = [l for l in out.stdout.splitlines() if l.startswith("| `")]
+    assert rows[0] == "| `base` | 1.00, 2.00, 3.00 | 2.00 ± 0.58 | 12.00 ± 0.58 | – |"
+    assert rows[1].startswith("| `lr:ppo.lr=1e-3` | 1.00, 2.00, 3.00 | ")
+
+
 def test_ablation_refuses_a_variant_that_is_not_key_equals_value(tmp_path):
     out, calls = run_ablation(tmp_path, "--steps", "1000", "good", "bad:lr=3")
     assert out.returncode != 0 and calls == []
