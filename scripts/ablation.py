@@ -28,12 +28,12 @@ refuses an unknown field or a bad value). Each variant trains into OUT/NAME.
 Run it with nothing else on the machine: the wall clock is part of the table.
 """
 import argparse
-import json
 import pathlib
 import subprocess
 import sys
 import time
 
+import evalfiles
 from stats import mean_se
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
@@ -51,29 +51,17 @@ def variant_sets(spec):
     return name, sets
 
 
-def seeds_of_matrix(matrix, vdir, seeds):
-    """SP R per seed (the diagonal, in `seeds` order) and XP R of every pair of different
-    seeds, from the matrix.json of `yokai eval vdir ...`. A policy is known by its run's
-    last path part (`seed-N`), so an evaluation made where the variant was first trained
+def seeds_of_eval(folder, seeds):
+    """SP R per seed (in `seeds` order) and the XP summary (mean and SE over the pairs of
+    different seeds) of `yokai eval`'s folder for a variant. Seeds are known by the
+    `seed-N` in their run names, so an evaluation made where the variant was first trained
     (and then copied or linked into OUT) reads the same."""
-    name = {f"seed-{seed}": seed for seed in seeds}
-
-    def policy(label):
-        return name.get(pathlib.PurePath(label.split(" (")[0]).name)
-
-    sp, xp = {}, []
-    for entry in matrix:
-        a, b = policy(entry["row"]), policy(entry["col"])
-        if a is None or b is None:
-            continue
-        if a == b:
-            sp[a] = entry["metrics"]["reward"]
-        else:
-            xp.append(entry["metrics"]["reward"])
-    missing = [s for s in seeds if s not in sp]
+    group = evalfiles.read_group(folder, 0, "ablation.py")
+    by_seed = dict(zip(group["seed_numbers"] or [], group["per_seed"]))
+    missing = [s for s in seeds if s not in by_seed]
     if missing:
-        sys.exit(f"{vdir}/eval/matrix.json: no self-play of seed(s) {missing}")
-    return [sp[s] for s in seeds], xp
+        sys.exit(f"ablation.py: {folder}: no self-play of seed(s) {missing}")
+    return [by_seed[s] for s in seeds], group["xp"]
 
 
 def main():
@@ -135,11 +123,11 @@ def main():
                     subprocess.run([args.yokai, "eval", str(vdir / f"seed-{seed}"), "--games",
                                     str(args.games), "--out", str(vdir / f"eval-seed-{seed}")],
                                    check=True, stdout=subprocess.DEVNULL)
-        matrices = [json.loads(m.read_text()) for m in evaluations(vdir)]
         if whole:
-            rewards, xp = seeds_of_matrix(matrices[0], vdir, seeds)
+            rewards, xp = seeds_of_eval(vdir / "eval", seeds)
         else:
-            rewards, xp = [m[0]["metrics"]["reward"] for m in matrices], []
+            rewards, xp = [evalfiles.read_json(m, "ablation.py")[0]["metrics"]["reward"]
+                           for m in evaluations(vdir)], None
         print(f"{name}: SP R {', '.join(f'{r:.2f}' for r in rewards)}", file=sys.stderr)
         rows.append((spec, rewards, *mean_se(rewards), xp, seconds))
 
@@ -152,8 +140,7 @@ def main():
     for spec, rewards, mean, se, xp, secs in rows:
         cells = [f"`{spec}`", ", ".join(f"{r:.2f}" for r in rewards), f"{mean:.2f} ± {se:.2f}"]
         if whole:
-            xm, xs = mean_se(xp) if xp else (float("nan"), float("nan"))
-            cells.append(f"{xm:.2f} ± {xs:.2f}")
+            cells.append(f"{xp['reward']['mean']:.2f} ± {xp['reward']['se']:.2f}" if xp else "–")
         table.append("| " + " | ".join(cells + ["–" if secs is None else f"{secs:.0f}"]) + " |")
     text = "\n".join(table) + "\n"
     (out / "ablation.md").write_text(text)

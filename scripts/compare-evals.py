@@ -22,51 +22,16 @@ Only the first group of each summary is read (`--group` picks another).
 import argparse
 import math
 import pathlib
-import re
-import sys
 
 import evalfiles
 from stats import mean_se
-
-
-def fail(message):
-    sys.exit(f"compare-evals: {message}")
-
-
-def read_json(path):
-    return evalfiles.read_json(path, "compare-evals")
 
 
 def load(spec, group_index):
     name, eq, folder = spec.partition("=")
     if not eq:
         name, folder = spec, spec
-    folder = pathlib.Path(folder)
-    groups = read_json(folder / "summary.json").get("groups", [])
-    if group_index >= len(groups):
-        fail(f"{folder / 'summary.json'}: no group {group_index} (it has {len(groups)})")
-    group = groups[group_index]
-    diagonal = {
-        e["row"]: e["metrics"]["reward"]
-        for e in read_json(folder / "matrix.json")
-        if e["row"] == e["col"]
-    }
-    missing = [s for s in group["seeds"] if s not in diagonal]
-    if missing:
-        fail(f"{folder / 'matrix.json'}: no self-play entry for {missing[0]!r}")
-    return {
-        "name": name,
-        "sp": group["sp"],
-        "xp": group.get("xp"),
-        "per_seed": [diagonal[s] for s in group["seeds"]],
-        "seed_numbers": seed_numbers(group["seeds"]),
-    }
-
-
-def seed_numbers(labels):
-    """The N of each label's `seed-N` (the last one in it), or None when a label has none."""
-    numbers = [re.findall(r"seed-(\d+)", label) for label in labels]
-    return [int(n[-1]) for n in numbers] if all(numbers) else None
+    return {"name": name, **evalfiles.read_group(pathlib.Path(folder), group_index, "compare-evals")}
 
 
 def pairing(a, b):

@@ -262,6 +262,13 @@ elif argv[0] == "eval":
     entries += [{"row": label(a), "col": p, "metrics": {"reward": 0.5}} for a in seeds for p in partners]
     pathlib.Path(argv[o]).mkdir(parents=True, exist_ok=True)
     (pathlib.Path(argv[o]) / "matrix.json").write_text(json.dumps(entries))
+    # yokai's summary: XP over the pairs of different seeds, mean and SE.
+    pairs = [e["metrics"]["reward"] for e in entries if e["col"] not in partners and e["row"] != e["col"]]
+    m = sum(pairs) / len(pairs) if pairs else 0.0
+    se = (sum((x - m) ** 2 for x in pairs) / (len(pairs) - 1) / len(pairs)) ** 0.5 if len(pairs) > 1 else 0.0
+    group = {"seeds": [label(a) for a in seeds], "sp": {},
+             "xp": {"entries": len(pairs), "reward": {"mean": m, "se": se}} if pairs else None}
+    (pathlib.Path(argv[o]) / "summary.json").write_text(json.dumps({"groups": [group]}))
 '''
 
 
@@ -351,7 +358,9 @@ def test_ablation_reads_a_real_evaluations_diagonal_and_pairs():
     spec = importlib.util.spec_from_file_location("ablation", SCRIPTS / "ablation.py")
     ablation = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(ablation)
-    data = SCRIPTS.parent / "docs/results/data/cpu-40M-ablations/base/matrix.json"
-    sp, xp = ablation.seeds_of_matrix(json.loads(data.read_text()), pathlib.Path("runs/cpu-40M-ablations/base"), [0, 1, 2])
+    data = SCRIPTS.parent / "docs/results/data/cpu-40M-ablations/base"
+    sp, xp = ablation.seeds_of_eval(data, [0, 1, 2])
     assert [round(r, 2) for r in sp] == [6.01, 6.04, 5.92]  # docs/results/cpu-40M-ablations.md
-    assert round(sum(xp) / len(xp), 2) == 5.73 and len(xp) == 3
+    assert round(xp["reward"]["mean"], 2) == 5.73 and xp["reward"]["n"] == 3
+    # In the order the seeds are asked for, whatever the summary's order.
+    assert [round(r, 2) for r in ablation.seeds_of_eval(data, [2, 0, 1])[0]] == [5.92, 6.01, 6.04]
