@@ -88,7 +88,8 @@ pub fn probe_records<'py>(
 /// dict of arrays, one entry per step with at least ``min_rows`` rows: ``step``, ``all``
 /// and ``oracle_all`` (share of cards named right by the probe and by the perfect-memory
 /// oracle), ``unseen`` and ``oracle_unseen`` (the same over cards the seat has not seen;
-/// NaN where it has seen all), ``rows``; and ``chance`` (1 / colours).
+/// NaN where it has seen all), ``rows``; ``head`` and ``head_unseen`` (the same for the
+/// belief head's guesses) where the records hold ``head``; and ``chance`` (1 / colours).
 #[pyfunction]
 #[pyo3(signature = (config, records, test=None, min_rows=20, by="card"))]
 pub fn probe_accuracy<'py>(
@@ -158,6 +159,10 @@ fn to_dict<'py>(py: Python<'py>, game: &Config, r: Records) -> PyResult<Bound<'p
     let episodes: Vec<i64> = r.episodes.iter().map(|&e| e as i64).collect();
     out.set_item("steps", steps.into_pyarray(py))?;
     out.set_item("episodes", episodes.into_pyarray(py))?;
+    if !r.head.is_empty() {
+        let head = Array2::from_shape_vec((n, y), r.head).expect("rows × cards");
+        out.set_item("head", head.into_pyarray(py))?;
+    }
     Ok(out)
 }
 
@@ -209,12 +214,9 @@ fn from_dict(game: &Config, d: &Bound<'_, PyDict>, what: &str) -> PyResult<Recor
         )));
     }
     let colours = colours.as_array().iter().copied().collect::<Vec<u8>>();
-    if let Some(c) = colours.iter().find(|&&c| c as usize >= game.colours()) {
-        return Err(bad(format!(
-            "colour {c} does not exist in {game} ({} colours)",
-            game.colours()
-        )));
-    }
+    check_colours(&colours, game).map_err(&bad)?;
+    let head = card_array::<u8>(d, "head", "uint8", [n, y], game, &bad)?.unwrap_or_default();
+    check_colours(&head, game).map_err(|e| bad(format!("head: {e}")))?;
     if steps.iter().any(|&v| !(0..=u16::MAX as i64).contains(&v))
         || episodes
             .iter()
@@ -224,21 +226,10 @@ fn from_dict(game: &Config, d: &Bound<'_, PyDict>, what: &str) -> PyResult<Recor
             "steps must lie in 0..=65535 and episodes in 0..2³²".into()
         ));
     }
-    let cells = match d.get_item("cells")? {
+    let cells = match card_array::<i64>(d, "cells", "int64", [n, y], game, &bad)? {
         None => Vec::new(),
         Some(cells) => {
-            let cells: PyReadonlyArray2<i64> = cells
-                .call_method1("astype", ("int64",))?
-                .extract()
-                .map_err(|_| bad("cells must be a 2-D array [rows, cards]".into()))?;
-            if cells.shape() != [n, y] {
-                return Err(bad(format!(
-                    "cells has shape {:?}, expected [{n}, {y}] (rows of states × cards of {game})",
-                    cells.shape()
-                )));
-            }
             let count = game.geometry().cells() as i64;
-            let cells: Vec<i64> = cells.as_array().iter().copied().collect();
             if let Some(c) = cells.iter().find(|&&c| !(0..count).contains(&c)) {
                 return Err(bad(format!(
                     "cell {c} is not on {game}'s board (cells 0..{count})"
@@ -267,8 +258,49 @@ fn from_dict(game: &Config, d: &Bound<'_, PyDict>, what: &str) -> PyResult<Recor
             .collect(),
         steps: steps.iter().map(|&s| s as u16).collect(),
         episodes: episodes.iter().map(|&e| e as u32).collect(),
+        head,
     })
 }
+
+/// The optional array `key` of a record set as `dtype`, flat (`None` where absent), checked
+/// to have the shape `[rows, cards]`.
+fn card_array<T: numpy::Element + Copy>(
+    d: &Bound<'_, PyDict>,
+    key: &str,
+    dtype: &str,
+    [n, y]: [usize; 2],
+    game: &Config,
+    bad: &impl Fn(String) -> PyErr,
+) -> PyResult<Option<Vec<T>>> {
+    let Some(a) = d.get_item(key)? else {
+        return Ok(None);
+    };
+    let a: PyReadonlyArray2<T> = a
+        .call_method1("astype", (dtype,))?
+        .extract()
+        .map_err(|_| bad(format!("{key} must be a 2-D array [rows, cards]")))?;
+    if a.shape() != [n, y] {
+        return Err(bad(format!(
+            "{key} has shape {:?}, expected [{n}, {y}] (rows of states × cards of {game})",
+            a.shape()
+        )));
+    }
+    Ok(Some(a.as_array().iter().copied().collect()))
+}
+
+/// Every colour of `colours` exists in `game`.
+fn check_colours(colours: &[u8], game: &Config) -> Result<(), String> {
+    match colours.iter().find(|&&c| c as usize >= game.colours()) {
+        Some(c) => Err(format!(
+            "colour {c} does not exist in {game} ({} colours)",
+            game.colours()
+        )),
+        None => Ok(()),
+    }
+}
+
+/// A share of a step that may be missing.
+type Share = fn(&StepAccuracy) -> Option<f64>;
 
 fn accuracy_dict<'py>(
     py: Python<'py>,
@@ -282,14 +314,21 @@ fn accuracy_dict<'py>(
     out.set_item("step", step.into_pyarray(py))?;
     out.set_item("all", column(|s| s.all).into_pyarray(py))?;
     out.set_item("oracle_all", column(|s| s.oracle_all).into_pyarray(py))?;
-    out.set_item(
-        "unseen",
-        column(|s| s.unseen.unwrap_or(f64::NAN)).into_pyarray(py),
-    )?;
-    out.set_item(
-        "oracle_unseen",
-        column(|s| s.oracle_unseen.unwrap_or(f64::NAN)).into_pyarray(py),
-    )?;
+    // Shares that may be missing at a step (no unseen card, no belief head): NaN there.
+    let optional: [(&str, Share); 4] = [
+        ("unseen", |s| s.unseen),
+        ("oracle_unseen", |s| s.oracle_unseen),
+        ("head", |s| s.head),
+        ("head_unseen", |s| s.head_unseen),
+    ];
+    let has_head = steps.iter().any(|s| s.head.is_some());
+    for (key, f) in optional {
+        if key.starts_with("head") && !has_head {
+            continue;
+        }
+        let values: Vec<f64> = steps.iter().map(|s| f(s).unwrap_or(f64::NAN)).collect();
+        out.set_item(key, values.into_pyarray(py))?;
+    }
     out.set_item("rows", rows.into_pyarray(py))?;
     out.set_item("chance", 1.0 / game.colours() as f64)?;
     Ok(out)

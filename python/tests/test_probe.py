@@ -43,6 +43,12 @@ def test_a_linear_code_is_read_and_noise_is_not():
     assert abs(noise["all"].mean() - 1 / 3) < 0.05
     # The oracle has seen nothing: it names the most common colour left (a third right).
     assert abs(noise["oracle_all"].mean() - 1 / 3) < 1e-9
+    assert "head" not in noise  # no belief head's guesses in the records
+    # A belief head that names every colour right but card 0's: 8 of 9 at every step.
+    head = synthetic(True)["colours"].copy()
+    head[:, 0] = (head[:, 0] + 1) % COLOURS
+    guessed = yokai.probe_accuracy("9c-2p-perfect", dict(synthetic(True), head=head))
+    assert np.allclose(guessed["head"], 8 / 9) and np.allclose(guessed["head_unseen"], 8 / 9)
 
 
 def test_records_of_a_trained_policy_round_trip_through_npz(run_dir, tmp_path):  # noqa: F811
@@ -91,6 +97,8 @@ def test_bad_records_name_what_is_wrong():
         ("steps", good["steps"][:-1], "steps and episodes need"),
         ("colours", good["colours"] + 3, r"colour \d does not exist in 9c-2p-perfect"),
         ("states", np.full_like(good["states"], np.nan), "NaN"),
+        ("head", good["colours"][:, :5], "head has shape"),
+        ("head", good["colours"] + 3, r"head: colour \d does not exist"),
     ]:
         bad = dict(good, **{key: value})
         with pytest.raises(ValueError, match=message):

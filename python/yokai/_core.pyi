@@ -46,7 +46,8 @@ def probe_records(
 ) -> dict[str, np.ndarray]:
     """Play ``games`` games with one trained policy per seat and record the probed seats'
     memory after every step: ``states`` [N, H] float32, ``colours`` [N, Y] uint8, ``seen``
-    [N, Y] bool, ``steps`` [N] and ``episodes`` [N] int64."""
+    [N, Y] bool, ``steps`` [N] and ``episodes`` [N] int64, and ``head`` [N, Y] uint8 (the
+    belief head's guess of every colour) where the probed network has a colour layer."""
 
 def probe_accuracy(
     config: str,
@@ -56,7 +57,8 @@ def probe_accuracy(
 ) -> dict[str, np.ndarray | float]:
     """Fit a linear probe per card on 80 % of ``records``' episodes and report accuracy per
     game step (``step``, ``all``, ``oracle_all``, ``unseen``, ``oracle_unseen``, ``rows``,
-    ``chance``) on the other 20 %, or on all of ``test``. ``records`` may hold any agent's
+    ``chance``; ``head`` and ``head_unseen`` where the records hold ``head``) on the other
+    20 %, or on all of ``test``. ``records`` may hold any agent's
     states (same keys as ``probe_records`` returns)."""
 
 def policy_step(

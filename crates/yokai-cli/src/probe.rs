@@ -91,11 +91,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let mut json = Vec::new();
     let mut series = Vec::new();
     let mut table = String::from(
-        "| run | setting | all cards | oracle | unseen cards | oracle (unseen) |\n|---|---|---|---|---|---|\n",
+        "| run | setting | all cards | oracle | belief head | unseen cards | oracle (unseen) | belief head (unseen) |\n\
+         |---|---|---|---|---|---|---|---|\n",
     );
     for c in &curves {
         for s in &c.steps {
-            let row = |cards: &str, acc: f64, oracle: f64| {
+            let row = |cards: &str, acc: f64, oracle: f64, head: Option<f64>| {
                 vec![
                     c.run.clone(),
                     c.setting.clone(),
@@ -104,16 +105,18 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                     format!("{acc:.4}"),
                     format!("{oracle:.4}"),
                     s.rows.to_string(),
+                    head.map(|h| format!("{h:.4}")).unwrap_or_default(),
                 ]
             };
-            csv_rows.push(row("all", s.all, s.oracle_all));
+            csv_rows.push(row("all", s.all, s.oracle_all, s.head));
             if let (Some(u), Some(o)) = (s.unseen, s.oracle_unseen) {
-                csv_rows.push(row("unseen", u, o));
+                csv_rows.push(row("unseen", u, o, s.head_unseen));
             }
             json.push(serde_json::json!({
                 "run": c.run, "setting": c.setting, "step": s.step, "rows": s.rows,
-                "all": s.all, "oracle_all": s.oracle_all,
+                "all": s.all, "oracle_all": s.oracle_all, "head": s.head,
                 "unseen": s.unseen, "oracle_unseen": s.oracle_unseen,
+                "head_unseen": s.head_unseen,
             }));
         }
         let mean = |f: &dyn Fn(&StepAccuracy) -> Option<f64>| {
@@ -126,13 +129,15 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         };
         let _ = writeln!(
             table,
-            "| {} | {} | {} | {} | {} | {} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {} |",
             c.run,
             c.setting,
             mean(&|s| Some(s.all)),
             mean(&|s| Some(s.oracle_all)),
+            mean(&|s| s.head),
             mean(&|s| s.unseen),
-            mean(&|s| s.oracle_unseen)
+            mean(&|s| s.oracle_unseen),
+            mean(&|s| s.head_unseen)
         );
         let points = |f: &dyn Fn(&StepAccuracy) -> Option<f64>| {
             c.steps
@@ -149,6 +154,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             label: format!("{} {setting}", short(&c.run)),
             points: points(&|s| s.unseen),
         });
+        if c.steps.iter().any(|s| s.head_unseen.is_some()) {
+            series.push(Series {
+                label: format!("{} {setting} belief head", short(&c.run)),
+                points: points(&|s| s.head_unseen),
+            });
+        }
         if c.setting == "self-play" {
             series.push(Series {
                 label: format!("{} oracle", short(&c.run)),
@@ -170,7 +181,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         std::fs::write(&path, text).with_context(|| format!("cannot write {}", path.display()))
     };
     let header = [
-        "run", "setting", "step", "cards", "accuracy", "oracle", "rows",
+        "run", "setting", "step", "cards", "accuracy", "oracle", "rows", "head",
     ];
     write("probe.csv", &crate::table::csv_text(&header, csv_rows))?;
     write(
@@ -178,7 +189,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         &serde_json::to_string_pretty(&json).expect("json values serialise"),
     )?;
     let svg = plots::lines_svg(
-        &format!("Linear probes by {what}: colours of unopened cards read from the memory"),
+        &format!(
+            "Linear probes by {what}: colours of unopened cards read from the memory \
+             (and by the belief head, where there is one)"
+        ),
         "game step",
         "accuracy",
         &series,
@@ -186,7 +200,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     plots::write_both(&args.out, "probe", &svg)?;
     println!(
         "Linear probes of the colours on the board by {what} (mean over game steps; \"unseen\": \
-         cards the seat has not opened; chance {:.1} %; {} games)\n\n{table}",
+         cards the seat has not opened; \"belief head\": the network's own colour layer, where \
+         it has one; chance {:.1} %; {} games)\n\n{table}",
         100.0 * chance,
         args.games
     );

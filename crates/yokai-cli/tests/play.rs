@@ -683,7 +683,7 @@ fn probe_trained_runs() {
     let mut lines = csv.lines();
     assert_eq!(
         lines.next(),
-        Some("run,setting,step,cards,accuracy,oracle,rows")
+        Some("run,setting,step,cards,accuracy,oracle,rows,head")
     );
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
     assert!(rows.iter().any(|r| r[1] == "self-play" && r[3] == "unseen"));
@@ -694,6 +694,10 @@ fn probe_trained_runs() {
         let (acc, oracle): (f64, f64) = (r[4].parse().unwrap(), r[5].parse().unwrap());
         let rows: f64 = r[6].parse().unwrap();
         assert!(rows > 0.0, "{r:?}");
+        assert_eq!(
+            r[7], "",
+            "a network without a colour layer guesses nothing: {r:?}"
+        );
         if r[2] == "0" && r[3] == "all" {
             // Nothing is seen at the first state: the oracle names one colour for all, which
             // is right for exactly a third of a game's cards, and the memory knows no more,

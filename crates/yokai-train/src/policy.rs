@@ -38,6 +38,8 @@ trait LoadedNet: std::fmt::Debug + Send + Sync {
         keep: Vec<f32>,
         device: &Device,
     ) -> SeatStep;
+    fn colour_guesses(&self, rows: &[SeenSeat], states: &[f32], device: &Device)
+        -> Option<Vec<u8>>;
     /// A seat-holder playing this network for `from`'s game, sampling with `seed`.
     fn seat(&self, from: &TrainedPolicy, seed: u64) -> Box<dyn Policy>;
 }
@@ -76,6 +78,14 @@ impl<E: Encoder + 'static, M: Recurrent + 'static> LoadedNet for ActorCritic<E, 
         device: &Device,
     ) -> SeatStep {
         ActorCritic::step_views(self, rows, states, keep, device)
+    }
+    fn colour_guesses(
+        &self,
+        rows: &[SeenSeat],
+        states: &[f32],
+        device: &Device,
+    ) -> Option<Vec<u8>> {
+        ActorCritic::colour_guesses(self, rows, states, device)
     }
     fn seat(&self, from: &TrainedPolicy, seed: u64) -> Box<dyn Policy> {
         Box::new(NetworkPolicy::new(self.clone(), from, seed))
@@ -281,6 +291,15 @@ impl TrainedPolicy {
     /// each: the acting rows' logits are in the seat's view.
     pub fn step_views(&self, rows: &[SeenSeat], states: Vec<f32>, keep: Vec<f32>) -> SeatStep {
         self.net.step_views(rows, states, keep, &self.device)
+    }
+
+    /// The belief head's guess of every card's colour, `[rows × Y]`, at the seats `rows`
+    /// (at least one) whose memories after reading their state are `states` (as
+    /// [`TrainedPolicy::step_seats`] returns them); `None` for a network without a colour
+    /// layer ([`crate::network::ActorCritic::colour_guesses`]).
+    pub fn colour_guesses(&self, rows: &[(&Game, Seat)], states: &[f32]) -> Option<Vec<u8>> {
+        let views: Vec<SeenSeat> = rows.iter().map(|&(g, s)| SeenSeat::plain(g, s)).collect();
+        self.net.colour_guesses(&views, states, &self.device)
     }
 
     /// One step of seat `seat`'s memory in `game` (from `state`; `keep` 0 starts a fresh

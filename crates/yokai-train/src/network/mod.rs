@@ -627,21 +627,60 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
         let Some(first) = rows.first() else {
             return SeatStep::default();
         };
-        let game = *first.game.config();
-        let encoding = E::encoding();
-        let l: usize = encoding.shape(&game).iter().product();
-        let mut obs = vec![0f32; rows.len() * l];
-        for (k, view) in rows.iter().enumerate() {
-            view.write(encoding, &mut obs[k * l..][..l]);
-        }
+        let obs = Self::observations(rows);
         let acting: Vec<usize> = (0..rows.len()).filter(|&k| rows[k].acts()).collect();
         let acted = self.act(&obs, &states, &keep, &acting, device, shards_on(device));
         SeatStep {
             states: acted.states,
             logits: acted.logits,
             acting,
-            num_actions: game.num_actions(),
+            num_actions: first.game.config().num_actions(),
         }
+    }
+
+    /// The seats' observations `[rows × L]` in this network's encoding.
+    fn observations(rows: &[SeenSeat]) -> Vec<f32> {
+        let Some(first) = rows.first() else {
+            return Vec::new();
+        };
+        let encoding = E::encoding();
+        let l: usize = encoding.shape(first.game.config()).iter().product();
+        let mut obs = vec![0f32; rows.len() * l];
+        for (k, view) in rows.iter().enumerate() {
+            view.write(encoding, &mut obs[k * l..][..l]);
+        }
+        obs
+    }
+
+    /// The colour layer's guess for every card, `[rows × Y]` (the colour of highest
+    /// logit, in the seat's view), at the seats `rows` (at least one) whose memories after
+    /// reading their state are `states` (`[rows × H]`, as [`ActorCritic::step_views`]
+    /// returns them). `None` for a network without a colour layer (`ppo.belief_aux` = 0).
+    /// For reading what the belief head learned on states of any kind (`yokai probe`).
+    pub fn colour_guesses(
+        &self,
+        rows: &[SeenSeat],
+        states: &[f32],
+        device: &Device,
+    ) -> Option<Vec<u8>> {
+        use crate::tensor::{tensor2, to_vec};
+        let n = rows.len();
+        assert!(n > 0, "colour guesses for at least one seat");
+        let obs = Self::observations(rows);
+        let l = obs.len() / n;
+        let x = self.head_input(tensor2(states.to_vec(), [n, self.hidden_size()], device));
+        let obs = tensor2(obs, [n, l], device);
+        let (_, colours) = self.policy_and_colour_logits_of_head(obs, x, MoveRows::Only(&[]));
+        let c = colours.as_ref()?.dims()[2];
+        // The first colour of highest logit, as the learner's argmax counts hits.
+        let guess =
+            |card: &[f32]| (0..c).fold(0, |best, k| if card[k] > card[best] { k } else { best });
+        Some(
+            to_vec(colours?)
+                .chunks_exact(c)
+                .map(|card| guess(card) as u8)
+                .collect(),
+        )
     }
 
     /// [`ActorCritic::act`] on one thread, for one part of the rows.

@@ -12,6 +12,10 @@
 //!   knows every colour the seat saw and, for the others, names the colour with the most
 //!   cards left (what first-hand memory and the counts allow without any inference from
 //!   partners).
+//! - Where the network has a colour layer (the belief head of `ppo.belief_aux`), its own
+//!   guess of every card's colour is recorded beside the memory and scored on the same
+//!   states: what the head the loss trained reads, which a linear probe of the memory alone
+//!   may miss (the head also reads the observation).
 //! - [`study::Study`] is what `yokai probe` runs: those steps for runs and partners.
 //!
 //! [`ending`] probes a different question with the same kind of self-play: where a policy
@@ -43,6 +47,10 @@ pub struct Records {
     pub cells: Vec<u8>,
     /// Per row: the cards the seat has observed itself.
     pub seen: Vec<CardSet>,
+    /// `[rows × Y]`: the belief head's guess of every card's colour
+    /// ([`TrainedPolicy::colour_guesses`]); empty where the recorded network has no colour
+    /// layer.
+    pub head: Vec<u8>,
     /// Per row: the game step (0 = the first state) and the episode index.
     pub steps: Vec<u16>,
     pub episodes: Vec<u32>,
@@ -62,6 +70,7 @@ impl Records {
         self.colours.extend(other.colours);
         self.cells.extend(other.cells);
         self.seen.extend(other.seen);
+        self.head.extend(other.head);
         self.steps.extend(other.steps);
         self.episodes.extend(other.episodes);
     }
@@ -105,6 +114,9 @@ pub fn record(
             .map(|s| vec![0f32; batch * seats[s].hidden_size()])
             .collect();
         let mut step = 0u16;
+        // Whether each recorded seat's network has a colour layer: known after its first
+        // step.
+        let mut heads = recorded.to_vec();
         while live.iter().any(|g| !g.is_over()) {
             let open: Vec<usize> = (0..batch).filter(|&g| !live[g].is_over()).collect();
             let mut steps = Vec::with_capacity(p);
@@ -119,6 +131,18 @@ pub fn record(
                     step == 0,
                 );
                 let new = &stepped.states;
+                let guesses = match heads[s] {
+                    true => {
+                        let rows: Vec<(&Game, Seat)> =
+                            open.iter().map(|&g| (&live[g], Seat(s as u8))).collect();
+                        policy.colour_guesses(&rows, new)
+                    }
+                    false => None,
+                };
+                heads[s] = guesses.is_some();
+                if let Some(guesses) = &guesses {
+                    out.head.extend_from_slice(guesses);
+                }
                 for (k, &g) in open.iter().enumerate() {
                     if recorded[s] {
                         let game = &live[g];
@@ -262,6 +286,10 @@ pub struct StepAccuracy {
     /// seen all).
     pub unseen: Option<f64>,
     pub oracle_unseen: Option<f64>,
+    /// The belief head's share of all cards and of unseen ones (`None` without a colour
+    /// layer in the records, or no unseen card).
+    pub head: Option<f64>,
+    pub head_unseen: Option<f64>,
     /// Rows (seat states) at this step.
     pub rows: usize,
 }
@@ -291,8 +319,10 @@ pub fn evaluate(
 ) -> Vec<StepAccuracy> {
     let (y, h) = (game.cards(), records.hidden);
     let longest = records.steps.iter().copied().max().unwrap_or(0) as usize;
-    // Per step: [all hits, all oracle, all n, unseen hits, unseen oracle, unseen n, rows].
-    let mut sums = vec![[0usize; 7]; longest + 1];
+    // Per step: [all hits, all oracle, all n, unseen hits, unseen oracle, unseen n, rows,
+    // all head, unseen head].
+    let mut sums = vec![[0usize; 9]; longest + 1];
+    let with_head = records.head.len() == records.len() * y && !records.is_empty();
     for r in (0..records.len()).filter(|&r| test(records.episodes[r])) {
         let state = &records.states[r * h..][..h];
         let colours = &records.colours[r * y..][..y];
@@ -305,13 +335,16 @@ pub fn evaluate(
             };
             let hit = (probe.predict(state) == colours[k]) as usize;
             let sure = (oracle(game, colours, seen, k) == colours[k]) as usize;
+            let head = with_head && records.head[r * y + k] == colours[k];
             s[0] += hit;
             s[1] += sure;
             s[2] += 1;
+            s[7] += head as usize;
             if !seen.contains(Card(k as u8)) {
                 s[3] += hit;
                 s[4] += sure;
                 s[5] += 1;
+                s[8] += head as usize;
             }
         }
     }
@@ -326,6 +359,8 @@ pub fn evaluate(
                 oracle_all: s[1] as f64 / s[2] as f64,
                 unseen: share(s[3], s[5]),
                 oracle_unseen: share(s[4], s[5]),
+                head: with_head.then(|| s[7] as f64 / s[2] as f64),
+                head_unseen: share(s[8], s[5]).filter(|_| with_head),
                 rows: s[6],
             }
         })
@@ -357,6 +392,10 @@ mod tests {
         assert_eq!(r.states.len(), r.len() * 16);
         assert_eq!(r.colours.len(), r.len() * game.cards());
         assert_eq!(r.cells.len(), r.len() * game.cards());
+        assert!(
+            r.head.is_empty(),
+            "a network without a colour layer guesses nothing"
+        );
         let y = game.cards();
         // Rows come step by step, the games of a batch side by side: each episode's rows
         // count its steps from 0, one by one.
@@ -443,6 +482,77 @@ mod tests {
                 assert_eq!(a.rows, 60);
             }
         }
+    }
+
+    /// The belief head's guesses are scored on the same rows as the oracle: a head right
+    /// on cards 0–4 and wrong on 5–8, with card 0 seen, reads 5/9 of all cards and 4/8 of
+    /// unseen ones; records without guesses have no head share.
+    #[test]
+    fn the_belief_heads_guesses_are_scored_on_all_and_unseen_cards() {
+        let game = Config::from_name("9c-2p").unwrap();
+        let mut r = Records {
+            hidden: 1,
+            ..Records::default()
+        };
+        for episode in 0..10u32 {
+            let deal = Game::new(game, episode as u64).deal().card_colours;
+            r.states.push(episode as f32);
+            r.colours.extend(deal.iter().map(|c| c.0));
+            r.head
+                .extend(deal.iter().enumerate().map(|(k, c)| match k < 5 {
+                    true => c.0,
+                    false => (c.0 + 1) % 3,
+                }));
+            r.seen.push(CardSet::from(Card(0)));
+            r.steps.push(0);
+            r.episodes.push(episode);
+        }
+        let probes = fit(&game, &r, |_| true, Target::Card).unwrap();
+        let [a] = evaluate(&game, &probes, &r, |_| true, 1)[..] else {
+            panic!("one step")
+        };
+        assert_eq!(a.head, Some(5.0 / 9.0));
+        assert_eq!(a.head_unseen, Some(4.0 / 8.0));
+        r.head.clear();
+        let [a] = evaluate(&game, &probes, &r, |_| true, 1)[..] else {
+            panic!("one step")
+        };
+        assert_eq!((a.head, a.head_unseen), (None, None));
+    }
+
+    /// A network with a colour layer has its guesses recorded row by row beside its
+    /// memories: at each game's first state, the guesses recorded are what the network
+    /// guesses from that state and the memory recorded with it.
+    #[test]
+    fn records_hold_the_belief_heads_guesses_of_their_rows() {
+        use crate::{MlpEncoder, TrainConfig, Trainer};
+        let tmp = tempfile::tempdir().unwrap();
+        let c = TrainConfig::from_toml_str(
+            "[network]\npreset = \"compact\"\nhead = \"pointer\"\nhidden = 8\n\
+             [ppo]\nbelief_aux = 0.5\nnum_envs = 4\nrollout_steps = 4\nminibatches = 1\n\
+             [run]\nthreads = 1\n",
+            "test",
+        )
+        .unwrap();
+        let path = tmp.path().join("belief.ykp");
+        let t = Trainer::<MlpEncoder>::new(c, 1).unwrap();
+        t.policy().write_atomic(&path).unwrap();
+        let policy = TrainedPolicy::load(&path).unwrap();
+        let game = *policy.game();
+        let (y, h) = (game.cards(), policy.hidden_size());
+        let r = record(&game, &[&policy, &policy], &[true, false], 5, 2);
+        assert_eq!(r.head.len(), r.len() * y);
+        let mut checked = 0;
+        for i in (0..r.len()).filter(|&i| r.steps[i] == 0) {
+            let deal = Game::new(game, derive_seed(2, r.episodes[i] as u64));
+            let state = &r.states[i * h..][..h];
+            let guesses = policy.colour_guesses(&[(&deal, Seat(0))], state).unwrap();
+            assert_eq!(&r.head[i * y..][..y], &guesses[..], "row {i}");
+            checked += 1;
+        }
+        assert_eq!(checked, 5);
+        // An untrained head's guesses are not all one colour (else the check says little).
+        assert!(r.head.iter().any(|&c| c != r.head[0]));
     }
 
     /// Probes by board position read the colour of whatever card lies there: with memories
