@@ -364,3 +364,42 @@ def test_ablation_reads_a_real_evaluations_diagonal_and_pairs():
     assert round(xp["reward"]["mean"], 2) == 5.73 and xp["reward"]["n"] == 3
     # In the order the seeds are asked for, whatever the summary's order.
     assert [round(r, 2) for r in ablation.seeds_of_eval(data, [2, 0, 1])[0]] == [5.92, 6.01, 6.04]
+
+
+def write_probe_csv(path, rows, head=True):
+    header = "run,setting,step,cards,accuracy,oracle,rows" + (",head" if head else "")
+    lines = [header] + [",".join(map(str, r if head else r[:7])) for r in rows]
+    path.write_text("\n".join(lines) + "\n")
+
+
+def test_probe_steps_weights_by_states_and_bins_the_steps(tmp_path):
+    # Steps 0 and 1 in the first bin (100 and 300 states), step 5 in the second (50).
+    rows = [
+        ["a", "self-play", 0, "unseen", 0.2, 0.4, 100, 0.3],
+        ["a", "self-play", 1, "unseen", 0.6, 0.8, 300, 0.7],
+        ["a", "self-play", 5, "unseen", 0.5, 0.9, 50, 1.0],
+    ]
+    write_probe_csv(tmp_path / "probe.csv", rows)
+    out = run_script("probe-steps.py", tmp_path / "probe.csv", "--bins", "0,5")
+    assert out.returncode == 0, out.stderr
+    line = next(l for l in out.stdout.splitlines() if l.startswith("| a |"))
+    cells = [c.strip() for c in line.strip("|").split("|")]
+    # probe (0.2·100 + 0.6·300 + 0.5·50) / 450 = 50.0 %; oracle 325 / 450 = 72.2 %; head
+    # 290 / 450 = 64.4 % (unweighted means over the steps would read 53.3, 70.0, 66.7).
+    assert cells[2:7] == ["unseen", "450", "50.0", "72.2", "64.4"]
+    # First bin: oracle (40 + 240) / 400 = 70.0 %, head (30 + 210) / 400 = 60.0 %.
+    assert cells[7:] == ["70.0 / 60.0 (400)", "90.0 / 100.0 (50)"]
+
+
+def test_probe_steps_shows_no_head_for_a_probe_without_one_and_names_bad_input(tmp_path):
+    write_probe_csv(tmp_path / "old.csv", [["a", "self-play", 0, "all", 0.3, 0.3, 10, ""]], head=False)
+    out = run_script("probe-steps.py", tmp_path / "old.csv", "--bins", "0")
+    assert out.returncode == 0, out.stderr
+    assert "| a | self-play | all | 10 | 30.0 | 30.0 | – | 30.0 / – (10) |" in out.stdout
+    out = run_script("probe-steps.py", tmp_path / "missing.csv")
+    assert out.returncode != 0 and "cannot read" in out.stderr and "missing.csv" in out.stderr
+    (tmp_path / "other.csv").write_text("a,b\n1,2\n")
+    out = run_script("probe-steps.py", tmp_path / "other.csv")
+    assert out.returncode != 0 and "not a `yokai probe` probe.csv" in out.stderr
+    out = run_script("probe-steps.py", tmp_path / "old.csv", "--bins", "5,0")
+    assert out.returncode != 0 and "ascending" in out.stderr
