@@ -74,7 +74,8 @@ enum Command {
     /// rules' invariants at every step and replaying a sample against the reference.
     Soak(soak::Args),
     /// Linear probes of card colours in trained policies' memories, by game step, in
-    /// self-play and with partners, against chance and a perfect-memory oracle.
+    /// self-play and with partners, against chance and a perfect-memory oracle; for a
+    /// network with a belief head (`ppo.belief_aux`), the head's own guesses beside them.
     Probe(probe::Args),
     /// Where trained policies could END, what they did against what the seat knew
     /// first-hand: do they reach boards they know to be clustered, and END there?
