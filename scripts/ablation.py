@@ -97,15 +97,16 @@ def main():
         return time.time() - start
 
     def evaluations(vdir):
-        """Where a variant's matrix.json files go: one for the whole, else one per seed."""
+        """A variant's `yokai eval` calls, as (what is evaluated, the folder it writes): the
+        variant as a whole, else each seed alone."""
         if whole:
-            return [vdir / "eval" / "matrix.json"]
-        return [vdir / f"eval-seed-{seed}" / "matrix.json" for seed in seeds]
+            return [(vdir, vdir / "eval")]
+        return [(vdir / f"seed-{seed}", vdir / f"eval-seed-{seed}") for seed in seeds]
 
     rows = []
     for (name, sets), spec in zip(variants, args.variants):
         vdir = out / name
-        if args.resume and all(m.exists() for m in evaluations(vdir)):
+        if args.resume and all((e / "matrix.json").exists() for _, e in evaluations(vdir)):
             seconds = None
             print(f"{name}: evaluation found in {vdir}, read as it is", file=sys.stderr)
         else:
@@ -115,19 +116,17 @@ def main():
                 print(f"{name}: seeds {args.seeds} trained together in {seconds:.0f} s", file=sys.stderr)
             else:
                 seconds = sum(train(vdir, sets, str(seed)) for seed in seeds) / len(seeds)
-            if whole:
-                subprocess.run([args.yokai, "eval", str(vdir), *partners, "--games", str(args.games),
-                                "-o", str(vdir / "eval")], check=True, stdout=subprocess.DEVNULL)
-            else:
-                for seed in seeds:
-                    subprocess.run([args.yokai, "eval", str(vdir / f"seed-{seed}"), "--games",
-                                    str(args.games), "--out", str(vdir / f"eval-seed-{seed}")],
-                                   check=True, stdout=subprocess.DEVNULL)
+            for evaluated, edir in evaluations(vdir):
+                # `-o` and `--out` are one option of `yokai eval`; each call keeps the spelling
+                # its test (python/tests/test_scripts.py) pins.
+                out_flag = "-o" if whole else "--out"
+                subprocess.run([args.yokai, "eval", str(evaluated), *partners, "--games", str(args.games),
+                                out_flag, str(edir)], check=True, stdout=subprocess.DEVNULL)
         if whole:
-            rewards, xp = seeds_of_eval(vdir / "eval", seeds)
+            rewards, xp = seeds_of_eval(evaluations(vdir)[0][1], seeds)
         else:
-            rewards, xp = [evalfiles.read_json(m, "ablation.py")[0]["metrics"]["reward"]
-                           for m in evaluations(vdir)], None
+            rewards, xp = [evalfiles.read_json(e / "matrix.json", "ablation.py")[0]["metrics"]["reward"]
+                           for _, e in evaluations(vdir)], None
         print(f"{name}: SP R {', '.join(f'{r:.2f}' for r in rewards)}", file=sys.stderr)
         rows.append((spec, rewards, *mean_se(rewards), xp, seconds))
 

@@ -83,6 +83,13 @@ pub fn chosen_log_prob(log_probs: Tensor<2>, one_hot: Tensor<2>) -> Tensor<1> {
 /// Sample one action from a row of logits over the legal actions (mask 1), on the CPU,
 /// with a uniform draw `u` in [0, 1). Returns the action, its log-probability and the
 /// row's entropy. `greedy` takes the most likely legal action instead.
+/// The index of the largest of `xs`, the first on a tie (0 for an empty slice): the
+/// most likely class of a row of scores, as the colour layer's and the linear probes'
+/// guesses name it.
+pub fn first_max(xs: &[f32]) -> usize {
+    (1..xs.len()).fold(0, |best, k| if xs[k] > xs[best] { k } else { best })
+}
+
 pub fn sample_row(logits: &[f32], mask: &[f32], u: f64, greedy: bool) -> (usize, f32, f32) {
     let max = logits
         .iter()
@@ -189,6 +196,15 @@ pub fn decide_end_row(
 mod tests {
     use super::*;
     use burn::tensor::TensorData;
+
+    /// The first of the largest wins a tie; an empty row names 0.
+    #[test]
+    fn first_max_names_the_first_of_the_largest() {
+        assert_eq!(first_max(&[1.0, 3.0, 3.0, 2.0]), 1);
+        assert_eq!(first_max(&[-1.0, -5.0]), 0);
+        assert_eq!(first_max(&[0.0, 0.0, 0.5]), 2);
+        assert_eq!(first_max(&[]), 0);
+    }
 
     fn t2(v: Vec<f32>, shape: [usize; 2]) -> Tensor<2> {
         Tensor::from_data(TensorData::new(v, shape), &Device::flex())

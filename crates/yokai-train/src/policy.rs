@@ -293,6 +293,12 @@ impl TrainedPolicy {
         self.net.step_views(rows, states, keep, &self.device)
     }
 
+    /// Whether the network has a colour layer (the belief head), which it has exactly when
+    /// its config's `ppo.belief_aux` is on ([`crate::network::ActorCritic::new`]).
+    pub fn has_colour_layer(&self) -> bool {
+        self.config.ppo.belief_aux > 0.0
+    }
+
     /// The belief head's guess of every card's colour, `[rows × Y]`, at the seats `rows`
     /// (at least one) whose memories after reading their state are `states` (as
     /// [`TrainedPolicy::step_seats`] returns them); `None` for a network without a colour

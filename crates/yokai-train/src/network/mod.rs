@@ -672,15 +672,8 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
         let obs = tensor2(obs, [n, l], device);
         let (_, colours) = self.policy_and_colour_logits_of_head(obs, x, MoveRows::Only(&[]));
         let c = colours.as_ref()?.dims()[2];
-        // The first colour of highest logit, as the learner's argmax counts hits.
-        let guess =
-            |card: &[f32]| (0..c).fold(0, |best, k| if card[k] > card[best] { k } else { best });
-        Some(
-            to_vec(colours?)
-                .chunks_exact(c)
-                .map(|card| guess(card) as u8)
-                .collect(),
-        )
+        let guess = |card: &[f32]| crate::distribution::first_max(card) as u8;
+        Some(to_vec(colours?).chunks_exact(c).map(guess).collect())
     }
 
     /// [`ActorCritic::act`] on one thread, for one part of the rows.

@@ -133,13 +133,7 @@ impl LinearProbe {
             .collect();
         let mut p = vec![0f32; self.classes];
         self.probabilities_standardised(&z, &mut p);
-        let mut best = 0;
-        for c in 1..self.classes {
-            if p[c] > p[best] {
-                best = c;
-            }
-        }
-        best as u8
+        crate::distribution::first_max(&p) as u8
     }
 }
 

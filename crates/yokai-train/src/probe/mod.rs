@@ -114,9 +114,6 @@ pub fn record(
             .map(|s| vec![0f32; batch * seats[s].hidden_size()])
             .collect();
         let mut step = 0u16;
-        // Whether each recorded seat's network has a colour layer: known after its first
-        // step.
-        let mut heads = recorded.to_vec();
         while live.iter().any(|g| !g.is_over()) {
             let open: Vec<usize> = (0..batch).filter(|&g| !live[g].is_over()).collect();
             let mut steps = Vec::with_capacity(p);
@@ -131,17 +128,12 @@ pub fn record(
                     step == 0,
                 );
                 let new = &stepped.states;
-                let guesses = match heads[s] {
-                    true => {
-                        let rows: Vec<(&Game, Seat)> =
-                            open.iter().map(|&g| (&live[g], Seat(s as u8))).collect();
-                        policy.colour_guesses(&rows, new)
-                    }
-                    false => None,
-                };
-                heads[s] = guesses.is_some();
-                if let Some(guesses) = &guesses {
-                    out.head.extend_from_slice(guesses);
+                if recorded[s] && policy.has_colour_layer() {
+                    let rows: Vec<(&Game, Seat)> =
+                        open.iter().map(|&g| (&live[g], Seat(s as u8))).collect();
+                    let guesses = policy.colour_guesses(&rows, new);
+                    out.head
+                        .extend(guesses.expect("a network with a colour layer guesses"));
                 }
                 for (k, &g) in open.iter().enumerate() {
                     if recorded[s] {
