@@ -271,6 +271,109 @@ fn the_sharded_acting_step_is_the_whole_one() {
     }
 }
 
+/// With the colour layer, `act_reading_colours` acts as `act` does (values, new states,
+/// the choosing rows' logits) and adds every row's colour log-probabilities: the colour
+/// layer's at the row's new state, waiting rows included, in row order whether the step
+/// is cut into parts or not.
+#[test]
+fn reading_colours_acts_as_act_does_and_gives_every_rows_colour_layer() {
+    use burn::module::Module;
+    use burn::prelude::*;
+    use burn::tensor::activation::log_softmax;
+    use burn::tensor::TensorData;
+    let mut config = tiny(SymmetrySet::None, 1);
+    config.network.head = yokai_train::ActionHead::Pointer;
+    config.ppo.belief_aux = 0.5;
+    let mut t = Trainer::<MlpEncoder>::new(config, 4).unwrap();
+    t.update().unwrap();
+    let net = t.model().valid();
+    let (obs, _) = t.views();
+    let rows = 16;
+    let (h, l) = (net.hidden_size(), obs.len() / rows);
+    let states: Vec<f32> = (0..rows * h).map(|i| (i % 11) as f32 / 5.0 - 1.0).collect();
+    let keep: Vec<f32> = (0..rows).map(|r| (r % 4 != 0) as u8 as f32).collect();
+    let choosing: Vec<usize> = (0..rows).filter(|r| r % 2 == 0 || *r == 9).collect();
+    let device = burn::prelude::Device::flex();
+    let plain = net.act(&obs, &states, &keep, &choosing, &device, 1);
+    assert!(plain.colour_log_probs.is_empty(), "act reads no colours");
+    let read = net.act_reading_colours(&obs, &states, &keep, &choosing, &device, 1);
+    let cut = rayon::ThreadPoolBuilder::new()
+        .num_threads(3)
+        .build()
+        .unwrap()
+        .install(|| net.act_reading_colours(&obs, &states, &keep, &choosing, &device, 3));
+    // What the colour layer gives at the new states, computed on its own.
+    let states_after =
+        Tensor::<2>::from_data(TensorData::new(plain.states.clone(), [rows, h]), &device);
+    let obs_t = Tensor::<2>::from_data(TensorData::new(obs.clone(), [rows, l]), &device);
+    let (_, colours) = net.policy_and_colour_logits_of_head(
+        obs_t,
+        net.head_input(states_after),
+        yokai_train::network::MoveRows::Every,
+    );
+    let colours = log_softmax(colours.expect("a colour layer"), 2);
+    let [_, y, c] = colours.dims();
+    let expected: Vec<f32> = colours.into_data().try_into_vec::<f32>().unwrap();
+    assert_eq!(expected.len(), rows * y * c);
+    for (what, a, b, tolerance) in [
+        ("values", &plain.values, &read.values, 0.0),
+        ("states", &plain.states, &read.states, 0.0),
+        ("logits", &plain.logits, &read.logits, 1e-5),
+        ("colours", &expected, &read.colour_log_probs, 1e-5),
+        ("cut logits", &plain.logits, &cut.logits, 1e-4),
+        ("cut colours", &expected, &cut.colour_log_probs, 1e-4),
+    ] {
+        assert_eq!(a.len(), b.len(), "{what}");
+        for (i, (x, y)) in a.iter().zip(b).enumerate() {
+            assert!((x - y).abs() <= tolerance, "{what}[{i}]: {x} against {y}");
+        }
+    }
+    // Each card's colours are a distribution.
+    for card in read.colour_log_probs.chunks_exact(c) {
+        let total: f32 = card.iter().map(|lp| lp.exp()).sum();
+        assert!((total - 1.0).abs() < 1e-4, "{card:?}");
+    }
+}
+
+/// The belief-gain reward: off, nothing is logged; on, each update logs the net gain of
+/// the games' potentials (finite, not 0), the first rollout plays the games the plain one
+/// plays (the reward changes only what is learnt), and once the weight has annealed to 0
+/// (`belief_gain_fraction` = 0.5 of 4 updates) nothing more is paid.
+#[test]
+fn belief_gain_pays_what_the_colour_layer_learns_and_anneals() {
+    let run = |weight: f32| {
+        one_thread(|| {
+            let mut c = tiny(SymmetrySet::None, 4);
+            c.network.head = yokai_train::ActionHead::Pointer;
+            c.ppo.belief_aux = 0.5;
+            c.ppo.rollout_steps = 40; // every game ends at least once (at most 32 steps)
+            c.ppo.total_steps = 4 * 8 * 40;
+            c.ppo.belief_gain = weight;
+            c.ppo.belief_gain_fraction = 0.5;
+            c.validate("cfg").unwrap();
+            let mut t = Trainer::<MlpEncoder>::new(c, 6).unwrap();
+            (0..4).map(|_| t.update().unwrap()).collect::<Vec<_>>()
+        })
+    };
+    let (off, on) = (run(0.0), run(0.3));
+    assert!(off.iter().all(|s| s.belief_gain.is_none()));
+    for s in &on[..2] {
+        let gain = s.belief_gain.expect("paid while the weight is above 0");
+        assert!(
+            gain.is_finite() && gain != 0.0,
+            "update {}: {gain}",
+            s.update
+        );
+    }
+    assert!(on[2..].iter().all(|s| s.belief_gain.is_none()));
+    let (a, b) = (&off[0], &on[0]);
+    assert_eq!(
+        serde_json::to_string(&a.games).unwrap(),
+        serde_json::to_string(&b.games).unwrap()
+    );
+    assert_ne!(a.value_loss, b.value_loss);
+}
+
 /// Tiny OBL configs of level 1 and of level 2 above it: level 1 trained one update and
 /// written to `dir/level-1.ykp`, level 2's belief 3 updates of an 8-unit model.
 fn tiny_obl_levels(dir: &std::path::Path) -> (TrainConfig, TrainConfig) {

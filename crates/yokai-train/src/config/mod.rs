@@ -174,6 +174,12 @@ impl TrainConfig {
                 "reads the pointer head's card embeddings: it needs network.head = \"pointer\"",
             );
         }
+        if p.belief_gain > 0.0 && p.belief_aux == 0.0 {
+            return bad(
+                "ppo.belief_gain",
+                "reads the colour layer of the belief loss: it needs ppo.belief_aux > 0",
+            );
+        }
         if self.obl.level >= 1 {
             // Checked at the levels it switches on only: a level below it has had its
             // symmetries taken away (`for_its_level`) and is checked after that.
@@ -189,11 +195,16 @@ impl TrainConfig {
                      set algorithm.symmetries (\"both\" for Other-Play's)",
                 );
             }
-            if p.cluster_shaping > 0.0 {
-                return bad(
-                    "ppo.cluster_shaping",
-                    "is not paid in OBL's fictitious continuations: set it to 0",
-                );
+            for (field, weight) in [
+                ("ppo.cluster_shaping", p.cluster_shaping),
+                ("ppo.belief_gain", p.belief_gain),
+            ] {
+                if weight > 0.0 {
+                    return bad(
+                        field,
+                        "is not paid in OBL's fictitious continuations: set it to 0",
+                    );
+                }
             }
             if n.critic == CriticInput::Central {
                 return bad(
@@ -389,6 +400,17 @@ mod tests {
         assert!(e.contains("ppo.belief_aux") && e.contains("pointer"), "{e}");
         let e = refused("[ppo]\nbelief_aux = -1.0\n", "x");
         assert!(e.contains("ppo.belief_aux"), "{e}");
+        let e = refused("[ppo]\nbelief_gain = 0.1\n", "x");
+        assert!(
+            e.contains("ppo.belief_gain") && e.contains("belief_aux"),
+            "{e}"
+        );
+        let e = refused("[ppo]\nbelief_gain = -0.1\n", "x");
+        assert!(e.contains("ppo.belief_gain") && e.contains("≥ 0"), "{e}");
+        for bad in ["0.0", "1.5", "-0.1"] {
+            let e = refused(&format!("[ppo]\nbelief_gain_fraction = {bad}\n"), "x");
+            assert!(e.contains("ppo.belief_gain_fraction"), "{bad}: {e}");
+        }
         let e = refused("[ppo]\nend_lookahead_form = \"fast\"\n", "x");
         assert!(e.contains("fast") && e.contains("target"), "{e}");
         // Off-Belief Learning: level 1 only for now, without what reads the true colours.
@@ -509,6 +531,12 @@ mod tests {
         );
         let e = refused("[ppo]\ncluster_shaping = 1.0\n[obl]\nlevel = 1\n", "x");
         assert!(e.contains("ppo.cluster_shaping"), "{e}");
+        let pointer = "[network]\npreset = \"compact\"\nhead = \"pointer\"\n";
+        let e = refused(
+            &format!("{pointer}[ppo]\nbelief_aux = 0.5\nbelief_gain = 0.1\n[obl]\nlevel = 1\n"),
+            "x",
+        );
+        assert!(e.contains("ppo.belief_gain") && e.contains("OBL"), "{e}");
         assert!(TrainConfig::from_toml_str("[obl]\nlevel = 1\n", "x").is_ok());
         let e = refused("[obl]\nwarm_lr = 1e-3\n", "x");
         assert!(

@@ -87,6 +87,21 @@ pub struct PpoConfig {
     /// own reward counts clustered colours only at the end, 32 steps later; this gives the
     /// moves that cluster a signal of their own. 0 (the paper's presets) turns it off.
     pub cluster_shaping: f32,
+    /// Weight of a reward for what the team comes to know of the colours (needs
+    /// `belief_aux`, whose colour layer reads it): a game's potential is the sum over its
+    /// seats and cards of log p(the card's true colour) under the colour layer at the
+    /// seat's state, and every step that is not an episode's last adds the weighted change
+    /// of that potential to both seats' reward. Potential-based, so it does not change
+    /// which policies are optimal; it pays a move at once for what it lets the partner (and
+    /// the mover) infer, where the game pays only through the ENDs it makes right, much
+    /// later. Annealed linearly to 0 over the first `belief_gain_fraction` of the run.
+    /// 0 (every preset, and left out of saved configs) turns it off.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub belief_gain: f32,
+    /// Share of the run, in (0, 1], over which `belief_gain` falls to 0 (1, left out of
+    /// saved configs: the whole run).
+    #[serde(skip_serializing_if = "is_one")]
+    pub belief_gain_fraction: f32,
 }
 
 impl Default for PpoConfig {
@@ -118,6 +133,8 @@ impl Default for PpoConfig {
             shaping_fraction: 1.0,
             normalize_advantages: true,
             cluster_shaping: 0.0,
+            belief_gain: 0.0,
+            belief_gain_fraction: 1.0,
         }
     }
 }
@@ -156,8 +173,13 @@ impl PpoConfig {
         if !(0.0..1.0).contains(&p.lr_hold) {
             return bad("ppo.lr_hold", "must lie in [0, 1)");
         }
-        if !(p.shaping_fraction > 0.0 && p.shaping_fraction <= 1.0) {
-            return bad("ppo.shaping_fraction", "must lie in (0, 1]");
+        for (field, fraction) in [
+            ("ppo.shaping_fraction", p.shaping_fraction),
+            ("ppo.belief_gain_fraction", p.belief_gain_fraction),
+        ] {
+            if !(fraction > 0.0 && fraction <= 1.0) {
+                return bad(field, "must lie in (0, 1]");
+            }
         }
         // Weights of optional terms: 0 turns a term off, and none may be negative.
         for (field, weight) in [
@@ -165,6 +187,7 @@ impl PpoConfig {
             ("ppo.end_entropy_coef", p.end_entropy_coef),
             ("ppo.cluster_shaping", p.cluster_shaping),
             ("ppo.belief_aux", p.belief_aux),
+            ("ppo.belief_gain", p.belief_gain),
             ("ppo.entropy_final", p.entropy_final.unwrap_or(0.0)),
         ] {
             if !(weight >= 0.0 && weight.is_finite()) {
@@ -178,6 +201,11 @@ impl PpoConfig {
 /// Whether a field is at its left-out value (0), for `skip_serializing_if`.
 fn is_zero(x: &f32) -> bool {
     *x == 0.0
+}
+
+/// Whether a share of the run is at its left-out value (1, the whole run).
+fn is_one(x: &f32) -> bool {
+    *x == 1.0
 }
 
 /// How `ppo.end_lookahead` turns "what END would pay" into a gradient on the END logit.

@@ -187,6 +187,8 @@ mod tests {
                 shaping_fraction: 1.0,
                 normalize_advantages: true,
                 cluster_shaping: 0.0,
+                belief_gain: 0.0,
+                belief_gain_fraction: 1.0,
             };
             assert_eq!(c.ppo, paper, "{name}");
             assert_eq!(c.act, ActConfig::default(), "{name}");

@@ -424,11 +424,23 @@ impl SeatStep {
 
 /// What [`ActorCritic::act`] gives for a batch of rows: every row's value `[B]` and new
 /// state `[B, H]`, and the choosing rows' action logits `[choosing, N_a]`, in row order.
+/// [`ActorCritic::act_reading_colours`] adds every row's colour log-probabilities.
 #[derive(Clone, Debug, Default)]
 pub struct Acted {
     pub values: Vec<f32>,
     pub states: Vec<f32>,
     pub logits: Vec<f32>,
+    /// Every row's colour layer, log-softmaxed: `[B × Y × C]` (empty unless asked for).
+    pub colour_log_probs: Vec<f32>,
+}
+
+/// The rows of one acting step, as [`ActorCritic::act`] takes them.
+#[derive(Clone, Copy)]
+struct ActBatch<'a> {
+    obs: &'a [f32],
+    states: &'a [f32],
+    keep: &'a [f32],
+    choosing: &'a [usize],
 }
 
 impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
@@ -561,11 +573,49 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
         device: &Device,
         shards: usize,
     ) -> Acted {
+        let batch = ActBatch {
+            obs,
+            states,
+            keep,
+            choosing,
+        };
+        self.act_sharded(batch, false, device, shards)
+    }
+
+    /// [`ActorCritic::act`], and every row's colour log-probabilities from the colour
+    /// layer (`ppo.belief_aux`; empty without it), waiting rows included: what the
+    /// belief-gain reward (`ppo.belief_gain`) reads. The pointer head then runs on every
+    /// row instead of the choosing rows alone, about twice its work.
+    pub fn act_reading_colours(
+        &self,
+        obs: &[f32],
+        states: &[f32],
+        keep: &[f32],
+        choosing: &[usize],
+        device: &Device,
+        shards: usize,
+    ) -> Acted {
+        let batch = ActBatch {
+            obs,
+            states,
+            keep,
+            choosing,
+        };
+        self.act_sharded(batch, true, device, shards)
+    }
+
+    fn act_sharded(&self, batch: ActBatch, colours: bool, device: &Device, shards: usize) -> Acted {
         use rayon::prelude::*;
+        let ActBatch {
+            obs,
+            states,
+            keep,
+            choosing,
+        } = batch;
         let rows = keep.len();
         let per = rows.div_ceil(shards.max(1)).max(1);
         if per >= rows {
-            return self.act_part(obs, states, keep, choosing, device);
+            return self.act_part(batch, colours, device);
         }
         let (l, h) = (obs.len() / rows, states.len() / rows);
         let parts: Vec<Acted> = (0..rows)
@@ -579,13 +629,13 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
                     .filter(|&&r| (start..end).contains(&r))
                     .map(|&r| r - start)
                     .collect();
-                self.act_part(
-                    &obs[start * l..end * l],
-                    &states[start * h..end * h],
-                    &keep[start..end],
-                    &mine,
-                    device,
-                )
+                let part = ActBatch {
+                    obs: &obs[start * l..end * l],
+                    states: &states[start * h..end * h],
+                    keep: &keep[start..end],
+                    choosing: &mine,
+                };
+                self.act_part(part, colours, device)
             })
             .collect();
         let mut all = Acted::default();
@@ -593,6 +643,7 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
             all.values.extend(part.values);
             all.states.extend(part.states);
             all.logits.extend(part.logits);
+            all.colour_log_probs.extend(part.colour_log_probs);
         }
         all
     }
@@ -677,15 +728,14 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
     }
 
     /// [`ActorCritic::act`] on one thread, for one part of the rows.
-    fn act_part(
-        &self,
-        obs: &[f32],
-        states: &[f32],
-        keep: &[f32],
-        choosing: &[usize],
-        device: &Device,
-    ) -> Acted {
+    fn act_part(&self, batch: ActBatch, colours: bool, device: &Device) -> Acted {
         use crate::tensor::{tensor2, to_vec};
+        let ActBatch {
+            obs,
+            states,
+            keep,
+            choosing,
+        } = batch;
         let rows = keep.len();
         let h = self.recur(
             tensor2(obs.to_vec(), [rows, obs.len() / rows.max(1)], device),
@@ -694,14 +744,50 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
         );
         // The head layers run once for the values and the logits.
         let x = self.head_input(h.clone());
+        let (logits, colour_log_probs) = if colours {
+            self.logits_and_colours(obs, x.clone(), choosing)
+        } else {
+            (self.logits_of_rows(obs, x.clone(), choosing), Vec::new())
+        };
         Acted {
             values: match self.central {
                 None => to_vec(self.values_of_head(x.clone(), None)),
                 Some(_) => Vec::new(),
             },
-            logits: self.logits_of_rows(obs, x, choosing),
+            logits,
             states: to_vec(h),
+            colour_log_probs,
         }
+    }
+
+    /// [`ActorCritic::logits_of_rows`] for the rows `choosing`, and every row's colour
+    /// log-probabilities `[B × Y × C]` (empty without a colour layer), from one run of the
+    /// head over every row.
+    fn logits_and_colours(
+        &self,
+        obs: &[f32],
+        head_input: Tensor<2>,
+        choosing: &[usize],
+    ) -> (Vec<f32>, Vec<f32>) {
+        use crate::tensor::{rows_tensor, tensor2, to_vec};
+        let device = head_input.device();
+        let rows = head_input.dims()[0];
+        let moving: Vec<usize> = (self.rows_at_move(obs, choosing).into_iter())
+            .map(|k| choosing[k])
+            .collect();
+        let all_obs = tensor2(obs.to_vec(), [rows, obs.len() / rows.max(1)], &device);
+        let (logits, colours) =
+            self.policy_and_colour_logits_of_head(all_obs, head_input, MoveRows::Only(&moving));
+        let logits = if choosing.is_empty() {
+            Vec::new()
+        } else {
+            let idx = choosing.iter().map(|&r| r as i64).collect();
+            to_vec(logits.select(0, rows_tensor(idx, &device)))
+        };
+        let colours = colours.map_or_else(Vec::new, |c| {
+            to_vec(burn::tensor::activation::log_softmax(c, 2))
+        });
+        (logits, colours)
     }
 
     /// The action logits and, where the network has a colour layer (`ppo.belief_aux`),

@@ -85,6 +85,11 @@ pub struct UpdateStats {
     /// games: what `ppo.cluster_shaping` paid before its weight (0 when it is off).
     #[serde(default)]
     pub cluster_reward: f64,
+    /// With `ppo.belief_gain`, while its weight is above 0: the net change of the games'
+    /// belief potentials over the rollout's non-final steps, summed over games, in nats,
+    /// before the weight (what the team came to know of the colours).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub belief_gain: Option<f64>,
     /// The entropy bonus of this update, where it follows a schedule (`ppo.entropy_final`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub entropy_coef: Option<f64>,
@@ -267,13 +272,18 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         self.actor.to_true_action(row, view_action)
     }
 
+    /// The share of the run done before this update, in [0, 1].
+    fn progress(&self) -> f64 {
+        self.update as f64 / self.config.updates() as f64
+    }
+
     /// The learning rate, the shaping weight and the entropy bonus at this point of the
     /// run: the rate falls linearly to 0 with `anneal_lr` (after holding over the first
     /// `lr_hold`), the shaping over the first
     /// `shaping_fraction`, the bonus from `entropy_coef` to `entropy_final` when given.
     fn schedules(&self) -> (f64, f64, f32) {
         let c = &self.config.ppo;
-        let progress = self.update as f64 / self.config.updates() as f64;
+        let progress = self.progress();
         let lr = if c.anneal_lr {
             c.lr * ((1.0 - progress) / (1.0 - c.lr_hold as f64)).min(1.0)
         } else {
@@ -327,6 +337,7 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
                 rollout.value_weight.as_deref().unwrap_or(&[]),
             ),
             cluster_reward: rollout.cluster_reward,
+            belief_gain: rollout.belief_gain,
             entropy_coef: c.entropy_final.map(|_| entropy_coef as f64),
             belief_loss: losses.belief.map(|b| b.0),
             belief_accuracy: losses.belief.map(|b| b.1),

@@ -4,12 +4,13 @@
 //! targets: GAE over the real rewards, or with Off-Belief Learning the targets of the
 //! fictitious continuations computed at each step.
 
+use super::addons::belief_gain::Potentials;
 use super::addons::Columns;
 use super::Trainer;
 use crate::distribution::{sample_row, unit_draw};
 use crate::error::TrainError;
 use crate::gae::gae;
-use crate::network::{shards_on, ActorCritic, Encoder, Recurrent};
+use crate::network::{shards_on, Acted, ActorCritic, Encoder, Recurrent};
 use crate::obl::{self, OblStep, StepInputs};
 use burn::module::Module;
 use rand_chacha::ChaCha8Rng;
@@ -40,6 +41,9 @@ pub(super) struct Rollout {
     pub entropy: f64,
     /// Net change in clustered colours paid by the clustering shaping, unweighted.
     pub cluster_reward: f64,
+    /// Net change in the games' belief potentials paid by the belief-gain reward,
+    /// unweighted (nats); `None` when it is off or has annealed away.
+    pub belief_gain: Option<f64>,
     /// The add-ons' columns.
     pub columns: Columns,
     /// With Off-Belief Learning: 1 on the rows whose value target is an OBL target (the
@@ -89,6 +93,7 @@ impl Rollout {
             games: MetricsAccumulator::default(),
             entropy: 0.0,
             cluster_reward: 0.0,
+            belief_gain: None,
             columns: Columns::default(),
             value_weight: None,
         }
@@ -113,6 +118,9 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         }
         if let Some(belief) = &self.addons.belief {
             ro.columns.truth = Some(belief.column(t_len, rows, self.game.cards()));
+        }
+        if let Some(gain) = &self.addons.gain {
+            ro.columns.potentials = gain.column(self.progress(), t_len, &self.actor);
         }
         let mut kept = Rewards {
             rewards: vec![0.0; t_len * rows],
@@ -204,7 +212,12 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         // its logit, so the draws below are unchanged.
         let choosing: Vec<usize> = (0..rows).filter(|&r| legal[r] > 1).collect();
         let dev = &self.infer_device;
-        let acted = net.act(o, &self.actor.memory, &keep, &choosing, dev, shards_on(dev));
+        let acted = self.run_network(
+            net,
+            (o, &keep, &choosing),
+            t,
+            ro.columns.potentials.as_mut(),
+        );
         if net.critic_is_central() {
             let colours = self.actor.colour_one_hots();
             let values = net.values_of(&acted.states, &colours, dev);
@@ -247,6 +260,29 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         (joint, acting)
     }
 
+    /// The network's acting step at rollout step `t` (`0..=T`, the last for the values
+    /// after the rollout) on every row's observation, with `keep` and the `choosing` rows
+    /// as [`ActorCritic::act`] takes them, from the actor's memory. With the belief gain's
+    /// `potentials`, it also reads every row's colour layer and records the step's potentials.
+    fn run_network(
+        &self,
+        net: &ActorCritic<E, M>,
+        (obs, keep, choosing): (&[f32], &[f32], &[usize]),
+        t: usize,
+        potentials: Option<&mut Potentials>,
+    ) -> Acted {
+        let (memory, dev) = (&self.actor.memory, &self.infer_device);
+        let shards = shards_on(dev);
+        match potentials {
+            Some(potentials) => {
+                let acted = net.act_reading_colours(obs, memory, keep, choosing, dev, shards);
+                potentials.record(t, &acted.colour_log_probs, &self.actor);
+                acted
+            }
+            None => net.act(obs, memory, keep, choosing, dev, shards),
+        }
+    }
+
     /// OBL's targets of rollout step `t`, given the rows' true-frame actions `joint`.
     pub(super) fn obl_step(
         &self,
@@ -269,8 +305,9 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
     }
 
     /// After the games stepped at `t`: every row's reward (the game's, the annealed
-    /// shaping, the clustering add-on's) and done flag, and the metrics of the games that
-    /// ended.
+    /// shaping, the clustering add-on's; the belief gain's is added once the rollout's last
+    /// potentials are known, in [`Trainer::value_targets`]) and done flag, and the metrics
+    /// of the games that ended.
     fn tally_rewards(
         &self,
         t: usize,
@@ -305,7 +342,7 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
     /// The rollout's advantages and value targets: with OBL the continuations' targets on
     /// the acting rows (the others learn nothing); else GAE, bootstrapped from the values of
     /// the observations after the last step.
-    fn value_targets(&self, net: &ActorCritic<E, M>, ro: &mut Rollout, kept: Rewards) {
+    fn value_targets(&self, net: &ActorCritic<E, M>, ro: &mut Rollout, mut kept: Rewards) {
         if let Some(obl) = kept.obl {
             let target = |i: usize| obl[i].unwrap_or(ro.values[i]);
             let all = 0..ro.values.len();
@@ -319,14 +356,13 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         let (last_obs, _) = self.views();
         let dev = &self.infer_device;
         let keep = self.actor.keeps();
-        let acted = net.act(
-            &last_obs,
-            &self.actor.memory,
-            &keep,
-            &[],
-            dev,
-            shards_on(dev),
-        );
+        // The belief gain of the rollout's last step reads the potentials after it.
+        let t_len = self.config.ppo.rollout_steps;
+        let potentials = ro.columns.potentials.as_mut();
+        let acted = self.run_network(net, (&last_obs, &keep, &[]), t_len, potentials);
+        if let Some(potentials) = &ro.columns.potentials {
+            ro.belief_gain = Some(potentials.pay(&mut kept.rewards, &kept.dones));
+        }
         let last_values = if net.critic_is_central() {
             net.values_of(&acted.states, &self.actor.colour_one_hots(), dev)
         } else {

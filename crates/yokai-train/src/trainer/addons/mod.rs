@@ -10,14 +10,18 @@
 //! - [`entropy`]: each row's entropy divided by ln(its legal actions)
 //!   (`ppo.entropy_normalized`).
 //! - [`cluster`]: the clustering shaping reward (`ppo.cluster_shaping`).
+//! - [`belief_gain`]: the reward for what the team comes to know of the colours
+//!   (`ppo.belief_gain`), read from the colour layer of [`belief_aux`].
 
 pub(super) mod belief_aux;
+pub(super) mod belief_gain;
 pub(super) mod cluster;
 pub(super) mod end;
 pub(super) mod entropy;
 
 use crate::config::PpoConfig;
 use belief_aux::BeliefAux;
+use belief_gain::BeliefGain;
 use cluster::ClusterShaping;
 use end::EndAddOn;
 use entropy::NormalizedEntropy;
@@ -29,6 +33,7 @@ pub(super) struct AddOns {
     pub belief: Option<BeliefAux>,
     pub entropy: Option<NormalizedEntropy>,
     pub cluster: Option<ClusterShaping>,
+    pub gain: Option<BeliefGain>,
 }
 
 impl AddOns {
@@ -38,6 +43,7 @@ impl AddOns {
             belief: BeliefAux::from_config(c),
             entropy: NormalizedEntropy::from_config(c),
             cluster: ClusterShaping::from_config(c),
+            gain: BeliefGain::from_config(c),
         }
     }
 }
@@ -50,6 +56,8 @@ pub(super) struct Columns {
     pub end: Option<end::EndRewards>,
     /// [`belief_aux`]: every card's true colour per step and row.
     pub truth: Option<belief_aux::Truth>,
+    /// [`belief_gain`]: every game's potential per step (while its weight is above 0).
+    pub potentials: Option<belief_gain::Potentials>,
 }
 
 /// The add-ons' rows of one minibatch shard, per choosing row.
