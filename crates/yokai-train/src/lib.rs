@@ -49,7 +49,7 @@ pub mod run;
 pub use artifact::{Container, FileHeader};
 pub use backend::{Backend, BackendError};
 pub use config::{
-    ActionHead, BeliefOf, ColourNames, CriticInput, EncoderKind, EndForm, MemoryKind,
+    ActionHead, BeliefOf, ColourNames, CriticInput, EncoderKind, EndForm, GainBaseline, MemoryKind,
     NetworkPreset, OblPartner, Override, SymmetrySet, TrainConfig, TrainConfigError,
 };
 pub use device::default_device;

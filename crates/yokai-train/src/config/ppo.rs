@@ -102,6 +102,9 @@ pub struct PpoConfig {
     /// saved configs: the whole run).
     #[serde(skip_serializing_if = "is_one")]
     pub belief_gain_fraction: f32,
+    /// What a seat's share of the `belief_gain` potential counts (see [`GainBaseline`]).
+    #[serde(skip_serializing_if = "GainBaseline::is_none")]
+    pub belief_gain_baseline: GainBaseline,
 }
 
 impl Default for PpoConfig {
@@ -135,6 +138,7 @@ impl Default for PpoConfig {
             cluster_shaping: 0.0,
             belief_gain: 0.0,
             belief_gain_fraction: 1.0,
+            belief_gain_baseline: GainBaseline::None,
         }
     }
 }
@@ -206,6 +210,27 @@ fn is_zero(x: &f32) -> bool {
 /// Whether a share of the run is at its left-out value (1, the whole run).
 fn is_one(x: &f32) -> bool {
     *x == 1.0
+}
+
+/// What a seat's share of the `ppo.belief_gain` potential counts.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum GainBaseline {
+    /// log p(true colour) of every card. A card the seat opens becomes certain, so most of
+    /// the gain pays for opening cards, which the shaping reward already pays.
+    #[default]
+    None,
+    /// log p(true colour) − log p_counting(true colour) of the cards the seat has not opened,
+    /// p_counting the share of the colour among the cards the seat has not opened (what
+    /// counting alone knows). Opening a card moves it out of the sum; what is left grows
+    /// only with what the seat infers beyond counting: from its partner's moves.
+    Counting,
+}
+
+impl GainBaseline {
+    fn is_none(&self) -> bool {
+        *self == GainBaseline::None
+    }
 }
 
 /// How `ppo.end_lookahead` turns "what END would pay" into a gradient on the END logit.

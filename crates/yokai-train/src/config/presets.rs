@@ -189,6 +189,7 @@ mod tests {
                 cluster_shaping: 0.0,
                 belief_gain: 0.0,
                 belief_gain_fraction: 1.0,
+                belief_gain_baseline: crate::config::GainBaseline::None,
             };
             assert_eq!(c.ppo, paper, "{name}");
             assert_eq!(c.act, ActConfig::default(), "{name}");

@@ -10,21 +10,27 @@
 //! can infer from it. The sum telescopes over a game, so it shifts a game's return by
 //! Φ(last state) − Φ(first) and changes no policy's ranking but through that last term,
 //! which rewards ending a game with the colours known; the anneal takes even that away.
+//! With `ppo.belief_gain_baseline = "counting"` a seat's share counts only the cards it has
+//! not opened, each as log p − log p_counting: what it infers beyond counting, which only
+//! its partner's moves can tell it.
 //! Its column is the rollout's potentials; it adds to the reward only, no loss term.
 
 use crate::actor::Actor;
-use crate::config::PpoConfig;
+use crate::config::{GainBaseline, PpoConfig};
+use yokai_engine::{Card, Seat};
 
 #[derive(Clone, Debug)]
 pub(in crate::trainer) struct BeliefGain {
     weight: f32,
     fraction: f32,
+    baseline: GainBaseline,
 }
 
 /// One rollout's potentials: per step (the rollout's `T` and the state after its last) and
 /// game, Φ of the game's state before that step is taken.
 pub(in crate::trainer) struct Potentials {
     weight: f32,
+    baseline: GainBaseline,
     games: usize,
     phi: Vec<f32>,
     /// Scratch: one row's true colours in its seat's view.
@@ -36,6 +42,7 @@ impl BeliefGain {
         (c.belief_gain > 0.0).then_some(BeliefGain {
             weight: c.belief_gain,
             fraction: c.belief_gain_fraction,
+            baseline: c.belief_gain_baseline,
         })
     }
 
@@ -51,6 +58,7 @@ impl BeliefGain {
         let games = actor.env().num_envs();
         (weight > 0.0).then(|| Potentials {
             weight,
+            baseline: self.baseline,
             games,
             phi: vec![0.0; (t_len + 1) * games],
             truth: Vec::new(),
@@ -70,9 +78,25 @@ impl Potentials {
         for r in 0..rows {
             actor.view_truth(r, &mut self.truth);
             let row = &log_probs[r * y * c..][..y * c];
-            let phi: f32 = (self.truth.iter().enumerate())
-                .map(|(k, &colour)| row[k * c + colour as usize])
-                .sum();
+            let head = |k: usize| row[k * c + self.truth[k] as usize];
+            let phi: f32 = match self.baseline {
+                GainBaseline::None => (0..y).map(head).sum(),
+                GainBaseline::Counting => {
+                    let opened = actor.game(r / p).known_cards(Seat((r % p) as u8));
+                    let unopened: Vec<usize> = (0..y)
+                        .filter(|&k| !opened.contains(Card(k as u8)))
+                        .collect();
+                    // Counting's share of each colour among the unopened cards.
+                    let mut left = vec![0f32; c];
+                    for &k in &unopened {
+                        left[self.truth[k] as usize] += 1.0;
+                    }
+                    let n = unopened.len() as f32;
+                    (unopened.iter())
+                        .map(|&k| head(k) - (left[self.truth[k] as usize] / n).ln())
+                        .sum()
+                }
+            };
             self.phi[t * self.games + r / p] += phi;
         }
     }
@@ -108,6 +132,7 @@ mod tests {
     fn potentials(phi: Vec<f32>, games: usize) -> Potentials {
         Potentials {
             weight: 0.5,
+            baseline: GainBaseline::None,
             games,
             phi,
             truth: Vec::new(),
@@ -158,6 +183,7 @@ mod tests {
         let unit = BeliefGain {
             weight: 1.0,
             fraction: 1.0,
+            baseline: GainBaseline::None,
         };
         let mut tally = unit.column(0.0, 2, actor).unwrap();
         tally.record(1, &log_probs, actor);
@@ -169,11 +195,77 @@ mod tests {
             .all(|&x| x == 0.0));
     }
 
+    /// With the counting baseline a seat's share counts its unopened cards only, each as
+    /// log p − log(share of its colour among them): with log p = −(r + 1) on every true
+    /// colour, row r gives n·(H − (r + 1)), n its unopened cards and H the entropy of their
+    /// colours' shares (the same in every seat's colour names), after a rollout in which
+    /// seats have opened cards.
+    #[test]
+    fn the_counting_baseline_counts_what_the_seat_infers_of_its_unopened_cards() {
+        use crate::network::MlpEncoder;
+        use crate::trainer::Trainer;
+        use crate::TrainConfig;
+        let config = TrainConfig::from_toml_str(
+            "[algorithm]\nname = \"op\"\nsymmetries = \"both\"\n\
+             [network]\npreset = \"compact\"\nhidden = 8\n\
+             [ppo]\nnum_envs = 3\nrollout_steps = 5\nminibatches = 1\n[run]\nthreads = 1\n",
+            "test",
+        )
+        .unwrap();
+        let mut trainer = Trainer::<MlpEncoder>::new(config, 2).unwrap();
+        trainer.update().unwrap();
+        let actor = trainer.actor();
+        let (rows, y, c) = (6, 9, 3);
+        let one_hots = actor.colour_one_hots();
+        let log_probs: Vec<f32> = (one_hots.iter().enumerate())
+            .map(|(i, &hot)| {
+                if hot > 0.5 {
+                    -((i / (y * c)) as f32 + 1.0)
+                } else {
+                    -50.0
+                }
+            })
+            .collect();
+        let unit = BeliefGain {
+            weight: 1.0,
+            fraction: 1.0,
+            baseline: GainBaseline::Counting,
+        };
+        let mut tally = unit.column(0.0, 5, actor).unwrap();
+        tally.record(0, &log_probs, actor);
+        let mut opened_any = false;
+        for (i, &phi) in tally.phi[..3].iter().enumerate() {
+            let game = actor.game(i);
+            let expected: f64 = (0..2)
+                .map(|s| {
+                    let opened = game.known_cards(Seat(s as u8));
+                    opened_any |= !opened.is_empty();
+                    let mut left = [0f64; 3];
+                    for k in (0..y).filter(|&k| !opened.contains(Card(k as u8))) {
+                        left[game.colour_of(Card(k as u8)).0 as usize] += 1.0;
+                    }
+                    let n: f64 = left.iter().sum();
+                    let h: f64 = (left.iter().filter(|&&x| x > 0.0))
+                        .map(|&x| -(x / n) * (x / n).ln())
+                        .sum();
+                    n * (h - (i * 2 + s + 1) as f64)
+                })
+                .sum();
+            assert!(
+                (phi as f64 - expected).abs() < 1e-4,
+                "game {i}: {phi} against {expected}"
+            );
+        }
+        assert!(opened_any, "the rollout opened cards");
+        assert_eq!(rows, actor.rows());
+    }
+
     #[test]
     fn the_weight_falls_to_zero_over_its_share_of_the_run() {
         let unit = BeliefGain {
             weight: 0.2,
             fraction: 0.5,
+            baseline: GainBaseline::None,
         };
         assert_eq!(unit.weight_at(0.0), 0.2);
         assert!((unit.weight_at(0.25) - 0.1).abs() < 1e-7);
