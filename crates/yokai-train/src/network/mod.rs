@@ -714,17 +714,32 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
         states: &[f32],
         device: &Device,
     ) -> Option<Vec<u8>> {
+        let (log_probs, c) = self.colour_log_probs(rows, states, device)?;
+        let guess = |card: &[f32]| crate::distribution::first_max(card) as u8;
+        Some(log_probs.chunks_exact(c).map(guess).collect())
+    }
+
+    /// The colour layer's log-probabilities of every card's colours, `[rows × Y × C]` (in
+    /// the seat's view), and C, at the seats `rows` (at least one) whose memories after
+    /// reading their state are `states`, as for [`ActorCritic::colour_guesses`]. `None`
+    /// without a colour layer.
+    pub fn colour_log_probs(
+        &self,
+        rows: &[SeenSeat],
+        states: &[f32],
+        device: &Device,
+    ) -> Option<(Vec<f32>, usize)> {
         use crate::tensor::{tensor2, to_vec};
         let n = rows.len();
-        assert!(n > 0, "colour guesses for at least one seat");
+        assert!(n > 0, "colour log-probabilities for at least one seat");
         let obs = Self::observations(rows);
         let l = obs.len() / n;
         let x = self.head_input(tensor2(states.to_vec(), [n, self.hidden_size()], device));
         let obs = tensor2(obs, [n, l], device);
         let (_, colours) = self.policy_and_colour_logits_of_head(obs, x, MoveRows::Only(&[]));
-        let c = colours.as_ref()?.dims()[2];
-        let guess = |card: &[f32]| crate::distribution::first_max(card) as u8;
-        Some(to_vec(colours?).chunks_exact(c).map(guess).collect())
+        let colours = colours?;
+        let c = colours.dims()[2];
+        Some((to_vec(burn::tensor::activation::log_softmax(colours, 2)), c))
     }
 
     /// [`ActorCritic::act`] on one thread, for one part of the rows.

@@ -417,6 +417,61 @@ mod tests {
         })
     }
 
+    /// The belief gain's potentials are recorded at the states they belong to: at a
+    /// rollout's first step every game is at its first state with an empty memory, and
+    /// each game's recorded potential is what the colour layer gives the true colours
+    /// there, through the seat-by-seat path `yokai probe` uses (`step_seats`, then
+    /// `colour_log_probs`), summed over both seats.
+    #[test]
+    fn a_rollouts_first_potentials_are_the_colour_layers_at_the_first_states() {
+        use crate::seen::SeenSeat;
+        use burn::module::Module;
+        use rand_chacha::rand_core::SeedableRng;
+        use yokai_engine::{Card, Seat};
+        let c = TrainConfig::from_toml_str(
+            "[network]\npreset = \"compact\"\nhidden = 16\nhead = \"pointer\"\n\
+             [ppo]\nnum_envs = 4\nrollout_steps = 3\nminibatches = 1\nbelief_aux = 0.5\n\
+             belief_gain = 0.2\n[run]\nthreads = 1\n",
+            "test",
+        )
+        .unwrap();
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let mut trainer = Trainer::<MlpEncoder>::new(c, 8).unwrap();
+            let games: Vec<_> = (0..4).map(|i| trainer.actor.game(i).clone()).collect();
+            let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
+            let ro = trainer.collect(1.0, &mut rng).unwrap();
+            let potentials = ro.columns.potentials.as_ref().expect("recorded");
+            let net = trainer.model.valid();
+            let device = trainer.infer_device.clone();
+            let h = net.hidden_size();
+            for (i, game) in games.iter().enumerate() {
+                let seats = [(game, Seat(0)), (game, Seat(1))];
+                let step = net.step_seats(&seats, vec![0.0; 2 * h], vec![0.0; 2], &device);
+                let views = [
+                    SeenSeat::plain(game, Seat(0)),
+                    SeenSeat::plain(game, Seat(1)),
+                ];
+                let (lp, colours) = net.colour_log_probs(&views, &step.states, &device).unwrap();
+                let y = lp.len() / (2 * colours);
+                let expected: f32 = (0..2 * y)
+                    .map(|j| {
+                        let colour = game.colour_of(Card((j % y) as u8)).0 as usize;
+                        lp[j * colours + colour]
+                    })
+                    .sum();
+                let got = potentials.at(0, i);
+                assert!(
+                    (got - expected).abs() < 1e-3,
+                    "game {i}: {got} against {expected}"
+                );
+            }
+        });
+    }
+
     /// The next update writes over the last rollout's observation and mask buffers, so
     /// nothing they held shows: with every float of them NaN before the second update it
     /// learns the same parameters, bit for bit, and they are finite.

@@ -101,6 +101,12 @@ impl Potentials {
         }
     }
 
+    /// The potential recorded for game `i` at step `t`.
+    #[cfg(test)]
+    pub fn at(&self, t: usize, i: usize) -> f32 {
+        self.phi[t * self.games + i]
+    }
+
     /// Returns: adds each step's weighted gain to both rows of its game in `rewards`
     /// (`[T × rows]`), but at the step that ends a game (`dones`, same shape), whose next
     /// state is a new game's. Returns the gain paid before the weight, summed over steps and
