@@ -443,6 +443,17 @@ struct ActBatch<'a> {
     choosing: &'a [usize],
 }
 
+impl<'a> ActBatch<'a> {
+    fn new(obs: &'a [f32], states: &'a [f32], keep: &'a [f32], choosing: &'a [usize]) -> Self {
+        ActBatch {
+            obs,
+            states,
+            keep,
+            choosing,
+        }
+    }
+}
+
 impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
     /// A freshly initialised network; a pure function of `seed`.
     pub fn new(config: &TrainConfig, game: &Config, seed: u64, device: &Device) -> Self {
@@ -573,13 +584,12 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
         device: &Device,
         shards: usize,
     ) -> Acted {
-        let batch = ActBatch {
-            obs,
-            states,
-            keep,
-            choosing,
-        };
-        self.act_sharded(batch, false, device, shards)
+        self.act_sharded(
+            ActBatch::new(obs, states, keep, choosing),
+            false,
+            device,
+            shards,
+        )
     }
 
     /// [`ActorCritic::act`], and every row's colour log-probabilities from the colour
@@ -595,13 +605,12 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
         device: &Device,
         shards: usize,
     ) -> Acted {
-        let batch = ActBatch {
-            obs,
-            states,
-            keep,
-            choosing,
-        };
-        self.act_sharded(batch, true, device, shards)
+        self.act_sharded(
+            ActBatch::new(obs, states, keep, choosing),
+            true,
+            device,
+            shards,
+        )
     }
 
     fn act_sharded(&self, batch: ActBatch, colours: bool, device: &Device, shards: usize) -> Acted {
@@ -629,12 +638,8 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
                     .filter(|&&r| (start..end).contains(&r))
                     .map(|&r| r - start)
                     .collect();
-                let part = ActBatch {
-                    obs: &obs[start * l..end * l],
-                    states: &states[start * h..end * h],
-                    keep: &keep[start..end],
-                    choosing: &mine,
-                };
+                let (obs, states) = (&obs[start * l..end * l], &states[start * h..end * h]);
+                let part = ActBatch::new(obs, states, &keep[start..end], &mine);
                 self.act_part(part, colours, device)
             })
             .collect();

@@ -134,6 +134,8 @@ impl Potentials {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::network::MlpEncoder;
+    use crate::trainer::Trainer;
 
     fn potentials(phi: Vec<f32>, games: usize) -> Potentials {
         Potentials {
@@ -157,35 +159,48 @@ mod tests {
         assert_eq!(paid, 1.0 - 1.0 + 2.0);
     }
 
+    /// A fresh Other-Play trainer of 3 games (6 rows), each seat naming colours its own way.
+    fn other_play_trainer(rollout_steps: usize, seed: u64) -> Trainer<MlpEncoder> {
+        let config = crate::TrainConfig::from_toml_str(
+            &format!(
+                "[algorithm]\nname = \"op\"\nsymmetries = \"both\"\n\
+                 [network]\npreset = \"compact\"\nhidden = 8\n\
+                 [ppo]\nnum_envs = 3\nrollout_steps = {rollout_steps}\nminibatches = 1\n\
+                 [run]\nthreads = 1\n"
+            ),
+            "test",
+        )
+        .unwrap();
+        Trainer::new(config, seed).unwrap()
+    }
+
+    /// Colour log-probabilities `[rows × 9 × 3]` in which row r gives −(r + 1) to each
+    /// card's true colour (as the row's seat names it) and −50 to every other.
+    fn true_colours_at_minus_row(actor: &Actor) -> Vec<f32> {
+        let log_prob = |(i, &hot): (usize, &f32)| {
+            if hot > 0.5 {
+                -((i / 27) as f32 + 1.0)
+            } else {
+                -50.0
+            }
+        };
+        actor
+            .colour_one_hots()
+            .iter()
+            .enumerate()
+            .map(log_prob)
+            .collect()
+    }
+
     /// Each game's potential sums its seats' rows, each row's log-probability of every
     /// card's true colour as the row's seat names colours (Other-Play relabels them per
     /// seat): row r gives −(r + 1) to each true colour and −50 to every other.
     #[test]
     fn a_games_potential_sums_its_seats_log_probabilities_of_the_true_colours() {
-        use crate::network::MlpEncoder;
-        use crate::trainer::Trainer;
-        use crate::TrainConfig;
-        let config = TrainConfig::from_toml_str(
-            "[algorithm]\nname = \"op\"\nsymmetries = \"both\"\n\
-             [network]\npreset = \"compact\"\nhidden = 8\n\
-             [ppo]\nnum_envs = 3\nrollout_steps = 2\nminibatches = 1\n[run]\nthreads = 1\n",
-            "test",
-        )
-        .unwrap();
-        let trainer = Trainer::<MlpEncoder>::new(config, 1).unwrap();
+        let trainer = other_play_trainer(2, 1);
         let actor = trainer.actor();
-        let (rows, y, c) = (6, 9, 3);
-        assert_eq!(actor.rows(), rows);
-        let one_hots = actor.colour_one_hots();
-        let log_probs: Vec<f32> = (one_hots.iter().enumerate())
-            .map(|(i, &hot)| {
-                if hot > 0.5 {
-                    -((i / (y * c)) as f32 + 1.0)
-                } else {
-                    -50.0
-                }
-            })
-            .collect();
+        assert_eq!(actor.rows(), 6);
+        let log_probs = true_colours_at_minus_row(actor);
         let unit = BeliefGain {
             weight: 1.0,
             fraction: 1.0,
@@ -193,7 +208,7 @@ mod tests {
         };
         let mut tally = unit.column(0.0, 2, actor).unwrap();
         tally.record(1, &log_probs, actor);
-        let y = y as f32;
+        let y = 9.0;
         assert_eq!(&tally.phi[3..6], [-3.0 * y, -7.0 * y, -11.0 * y]);
         assert!(tally.phi[..3]
             .iter()
@@ -208,30 +223,11 @@ mod tests {
     /// seats have opened cards.
     #[test]
     fn the_counting_baseline_counts_what_the_seat_infers_of_its_unopened_cards() {
-        use crate::network::MlpEncoder;
-        use crate::trainer::Trainer;
-        use crate::TrainConfig;
-        let config = TrainConfig::from_toml_str(
-            "[algorithm]\nname = \"op\"\nsymmetries = \"both\"\n\
-             [network]\npreset = \"compact\"\nhidden = 8\n\
-             [ppo]\nnum_envs = 3\nrollout_steps = 5\nminibatches = 1\n[run]\nthreads = 1\n",
-            "test",
-        )
-        .unwrap();
-        let mut trainer = Trainer::<MlpEncoder>::new(config, 2).unwrap();
+        let mut trainer = other_play_trainer(5, 2);
         trainer.update().unwrap();
         let actor = trainer.actor();
-        let (rows, y, c) = (6, 9, 3);
-        let one_hots = actor.colour_one_hots();
-        let log_probs: Vec<f32> = (one_hots.iter().enumerate())
-            .map(|(i, &hot)| {
-                if hot > 0.5 {
-                    -((i / (y * c)) as f32 + 1.0)
-                } else {
-                    -50.0
-                }
-            })
-            .collect();
+        let y = 9;
+        let log_probs = true_colours_at_minus_row(actor);
         let unit = BeliefGain {
             weight: 1.0,
             fraction: 1.0,
@@ -263,7 +259,6 @@ mod tests {
             );
         }
         assert!(opened_any, "the rollout opened cards");
-        assert_eq!(rows, actor.rows());
     }
 
     #[test]
