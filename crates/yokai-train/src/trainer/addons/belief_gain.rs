@@ -14,6 +14,8 @@
 //! not opened, each as log p − log p_counting: what it infers beyond counting, which only
 //! its partner's moves can tell it.
 //! Its column is the rollout's potentials; it adds to the reward only, no loss term.
+//! On `cpu` at 40M steps neither form moved self-play (docs/results/cpu-belief-gain.md):
+//! with a critic that keeps up, what lasts of a potential-based payment is its end term.
 
 use crate::actor::Actor;
 use crate::config::{GainBaseline, PpoConfig};
@@ -107,7 +109,7 @@ impl Potentials {
         self.phi[t * self.games + i]
     }
 
-    /// Returns: adds each step's weighted gain to both rows of its game in `rewards`
+    /// Value targets: adds each step's weighted gain to both rows of its game in `rewards`
     /// (`[T × rows]`), but at the step that ends a game (`dones`, same shape), whose next
     /// state is a new game's. Returns the gain paid before the weight, summed over steps and
     /// games (nats).
