@@ -223,7 +223,9 @@ pub enum GainBaseline {
     /// log p(true colour) − log p_counting(true colour) of the cards the seat has not opened,
     /// p_counting the share of the colour among the cards the seat has not opened (what
     /// counting alone knows). Opening a card moves it out of the sum; what is left grows
-    /// only with what the seat infers beyond counting: from its partner's moves.
+    /// only with what the seat infers beyond counting: from its partner's moves. "Opened"
+    /// is what the seat sees by the game's memory rule: with imperfect memory, the cards it
+    /// has opened this turn, none while it waits.
     Counting,
 }
 
