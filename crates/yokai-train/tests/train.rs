@@ -271,7 +271,7 @@ fn the_sharded_acting_step_is_the_whole_one() {
     }
 }
 
-/// With the colour layer, `act_reading_colours` acts as `act` does (values, new states,
+/// With the colour layer, `act_with(…, colours = true, …)` acts as `act` does (values, new states,
 /// the choosing rows' logits) and adds every row's colour log-probabilities: the colour
 /// layer's at the row's new state, waiting rows included, in row order whether the step
 /// is cut into parts or not.
@@ -281,6 +281,7 @@ fn reading_colours_acts_as_act_does_and_gives_every_rows_colour_layer() {
     use burn::prelude::*;
     use burn::tensor::activation::log_softmax;
     use burn::tensor::TensorData;
+    use yokai_train::network::ActBatch;
     let mut config = tiny(SymmetrySet::None, 1);
     config.network.head = yokai_train::ActionHead::Pointer;
     config.ppo.belief_aux = 0.5;
@@ -296,12 +297,13 @@ fn reading_colours_acts_as_act_does_and_gives_every_rows_colour_layer() {
     let device = burn::prelude::Device::flex();
     let plain = net.act(&obs, &states, &keep, &choosing, &device, 1);
     assert!(plain.colour_log_probs.is_empty(), "act reads no colours");
-    let read = net.act_reading_colours(&obs, &states, &keep, &choosing, &device, 1);
+    let batch = ActBatch::new(&obs, &states, &keep, &choosing);
+    let read = net.act_with(batch, true, &device, 1);
     let cut = rayon::ThreadPoolBuilder::new()
         .num_threads(3)
         .build()
         .unwrap()
-        .install(|| net.act_reading_colours(&obs, &states, &keep, &choosing, &device, 3));
+        .install(|| net.act_with(batch, true, &device, 3));
     // What the colour layer gives at the new states, computed on its own.
     let states_after =
         Tensor::<2>::from_data(TensorData::new(plain.states.clone(), [rows, h]), &device);

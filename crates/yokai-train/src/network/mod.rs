@@ -424,7 +424,7 @@ impl SeatStep {
 
 /// What [`ActorCritic::act`] gives for a batch of rows: every row's value `[B]` and new
 /// state `[B, H]`, and the choosing rows' action logits `[choosing, N_a]`, in row order.
-/// [`ActorCritic::act_reading_colours`] adds every row's colour log-probabilities.
+/// [`ActorCritic::act_with`] adds every row's colour log-probabilities.
 #[derive(Clone, Debug, Default)]
 pub struct Acted {
     pub values: Vec<f32>,
@@ -436,7 +436,7 @@ pub struct Acted {
 
 /// The rows of one acting step, as [`ActorCritic::act`] takes them.
 #[derive(Clone, Copy)]
-struct ActBatch<'a> {
+pub struct ActBatch<'a> {
     obs: &'a [f32],
     states: &'a [f32],
     keep: &'a [f32],
@@ -444,7 +444,7 @@ struct ActBatch<'a> {
 }
 
 impl<'a> ActBatch<'a> {
-    fn new(obs: &'a [f32], states: &'a [f32], keep: &'a [f32], choosing: &'a [usize]) -> Self {
+    pub fn new(obs: &'a [f32], states: &'a [f32], keep: &'a [f32], choosing: &'a [usize]) -> Self {
         ActBatch {
             obs,
             states,
@@ -584,7 +584,7 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
         device: &Device,
         shards: usize,
     ) -> Acted {
-        self.act_sharded(
+        self.act_with(
             ActBatch::new(obs, states, keep, choosing),
             false,
             device,
@@ -592,28 +592,18 @@ impl<E: Encoder, M: Recurrent> ActorCritic<E, M> {
         )
     }
 
-    /// [`ActorCritic::act`], and every row's colour log-probabilities from the colour
-    /// layer (`ppo.belief_aux`; empty without it), waiting rows included: what the
-    /// belief-gain reward (`ppo.belief_gain`) reads. The pointer head then runs on every
-    /// row instead of the choosing rows alone, about twice its work.
-    pub fn act_reading_colours(
+    /// [`ActorCritic::act`] on `batch`, and with `colours` every row's colour
+    /// log-probabilities from the colour layer (`ppo.belief_aux`; empty without it),
+    /// waiting rows included: what the belief-gain reward (`ppo.belief_gain`) reads. The
+    /// pointer head then runs on every row instead of the choosing rows alone, about twice
+    /// its work.
+    pub fn act_with(
         &self,
-        obs: &[f32],
-        states: &[f32],
-        keep: &[f32],
-        choosing: &[usize],
+        batch: ActBatch,
+        colours: bool,
         device: &Device,
         shards: usize,
     ) -> Acted {
-        self.act_sharded(
-            ActBatch::new(obs, states, keep, choosing),
-            true,
-            device,
-            shards,
-        )
-    }
-
-    fn act_sharded(&self, batch: ActBatch, colours: bool, device: &Device, shards: usize) -> Acted {
         use rayon::prelude::*;
         let ActBatch {
             obs,

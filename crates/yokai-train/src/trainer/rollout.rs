@@ -10,7 +10,7 @@ use super::Trainer;
 use crate::distribution::{sample_row, unit_draw};
 use crate::error::TrainError;
 use crate::gae::gae;
-use crate::network::{shards_on, Acted, ActorCritic, Encoder, Recurrent};
+use crate::network::{shards_on, ActBatch, Acted, ActorCritic, Encoder, Recurrent};
 use crate::obl::{self, OblStep, StepInputs};
 use burn::module::Module;
 use rand_chacha::ChaCha8Rng;
@@ -271,16 +271,13 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         t: usize,
         potentials: Option<&mut Potentials>,
     ) -> Acted {
-        let (memory, dev) = (&self.actor.memory, &self.infer_device);
-        let shards = shards_on(dev);
-        match potentials {
-            Some(potentials) => {
-                let acted = net.act_reading_colours(obs, memory, keep, choosing, dev, shards);
-                potentials.record(t, &acted.colour_log_probs, &self.actor);
-                acted
-            }
-            None => net.act(obs, memory, keep, choosing, dev, shards),
+        let dev = &self.infer_device;
+        let batch = ActBatch::new(obs, &self.actor.memory, keep, choosing);
+        let acted = net.act_with(batch, potentials.is_some(), dev, shards_on(dev));
+        if let Some(potentials) = potentials {
+            potentials.record(t, &acted.colour_log_probs, &self.actor);
         }
+        acted
     }
 
     /// OBL's targets of rollout step `t`, given the rows' true-frame actions `joint`.
