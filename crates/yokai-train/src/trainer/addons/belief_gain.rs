@@ -35,8 +35,10 @@ pub(in crate::trainer) struct Potentials {
     baseline: GainBaseline,
     games: usize,
     phi: Vec<f32>,
-    /// Scratch: one row's true colours in its seat's view.
+    /// Scratch: one row's true colours in its seat's view, and (counting baseline) how
+    /// many of its unopened cards each colour has.
     truth: Vec<u8>,
+    left: Vec<f32>,
 }
 
 impl BeliefGain {
@@ -64,6 +66,7 @@ impl BeliefGain {
             games,
             phi: vec![0.0; (t_len + 1) * games],
             truth: Vec::new(),
+            left: Vec::new(),
         })
     }
 }
@@ -85,18 +88,19 @@ impl Potentials {
                 GainBaseline::None => (0..y).map(head).sum(),
                 GainBaseline::Counting => {
                     let opened = actor.game(r / p).known_cards(Seat((r % p) as u8));
-                    let unopened: Vec<usize> = (0..y)
-                        .filter(|&k| !opened.contains(Card(k as u8)))
-                        .collect();
-                    // Counting's share of each colour among the unopened cards.
-                    let mut left = vec![0f32; c];
-                    for &k in &unopened {
-                        left[self.truth[k] as usize] += 1.0;
+                    let unopened = || (0..y).filter(|&k| !opened.contains(Card(k as u8)));
+                    // Σ over unopened cards of log p − log(left[colour] / n) is Σ log p −
+                    // Σ over colours of left · log(left / n).
+                    self.left.clear();
+                    self.left.resize(c, 0.0);
+                    for k in unopened() {
+                        self.left[self.truth[k] as usize] += 1.0;
                     }
-                    let n = unopened.len() as f32;
-                    (unopened.iter())
-                        .map(|&k| head(k) - (left[self.truth[k] as usize] / n).ln())
-                        .sum()
+                    let n: f32 = self.left.iter().sum();
+                    let counting: f32 = (self.left.iter().filter(|&&x| x > 0.0))
+                        .map(|&x| x * (x / n).ln())
+                        .sum();
+                    unopened().map(head).sum::<f32>() - counting
                 }
             };
             self.phi[t * self.games + r / p] += phi;
@@ -146,6 +150,7 @@ mod tests {
             games,
             phi,
             truth: Vec::new(),
+            left: Vec::new(),
         }
     }
 
