@@ -49,8 +49,8 @@ pub mod run;
 pub use artifact::{Container, FileHeader};
 pub use backend::{Backend, BackendError};
 pub use config::{
-    ActionHead, BeliefOf, ColourNames, CriticInput, EncoderKind, EndForm, GainBaseline, MemoryKind,
-    NetworkPreset, OblPartner, Override, SymmetrySet, TrainConfig, TrainConfigError,
+    ActionHead, BeliefOf, ColourNames, CriticInput, EncoderKind, EndForm, GainBaseline, GainSeats,
+    MemoryKind, NetworkPreset, OblPartner, Override, SymmetrySet, TrainConfig, TrainConfigError,
 };
 pub use device::default_device;
 pub use error::{FileError, TrainError};

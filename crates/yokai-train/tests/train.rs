@@ -6,8 +6,8 @@ use yokai_agents::Policy;
 use yokai_engine::Part;
 use yokai_train::Container;
 use yokai_train::{
-    read_metrics, train_run, BeliefOf, CriticInput, EncoderKind, EndForm, MlpEncoder, RunRequest,
-    SymmetrySet, TrainConfig, TrainError, TrainedPolicy, Trainer, UpdateStats,
+    read_metrics, train_run, BeliefOf, CriticInput, EncoderKind, EndForm, GainSeats, MlpEncoder,
+    RunRequest, SymmetrySet, TrainConfig, TrainError, TrainedPolicy, Trainer, UpdateStats,
 };
 
 fn tiny(symmetries: SymmetrySet, updates: u64) -> TrainConfig {
@@ -340,10 +340,11 @@ fn reading_colours_acts_as_act_does_and_gives_every_rows_colour_layer() {
 /// The belief-gain reward: off, nothing is logged; on, each update logs the net gain of
 /// the games' potentials (finite, not 0), the first rollout plays the games the plain one
 /// plays (the reward changes only what is learnt), and once the weight has annealed to 0
-/// (`belief_gain_fraction` = 0.5 of 4 updates) nothing more is paid.
+/// (`belief_gain_fraction` = 0.5 of 4 updates) nothing more is paid. Paid to the waiting
+/// seats only, the same holds and the gain logged differs from every seat's.
 #[test]
 fn belief_gain_pays_what_the_colour_layer_learns_and_anneals() {
-    let run = |weight: f32| {
+    let run = |weight: f32, seats: GainSeats| {
         one_thread(|| {
             let mut c = tiny(SymmetrySet::None, 4);
             c.network.head = yokai_train::ActionHead::Pointer;
@@ -352,28 +353,33 @@ fn belief_gain_pays_what_the_colour_layer_learns_and_anneals() {
             c.ppo.total_steps = 4 * 8 * 40;
             c.ppo.belief_gain = weight;
             c.ppo.belief_gain_fraction = 0.5;
+            c.ppo.belief_gain_seats = seats;
             c.validate("cfg").unwrap();
             let mut t = Trainer::<MlpEncoder>::new(c, 6).unwrap();
             (0..4).map(|_| t.update().unwrap()).collect::<Vec<_>>()
         })
     };
-    let (off, on) = (run(0.0), run(0.3));
+    let off = run(0.0, GainSeats::All);
     assert!(off.iter().all(|s| s.belief_gain.is_none()));
-    for s in &on[..2] {
-        let gain = s.belief_gain.expect("paid while the weight is above 0");
-        assert!(
-            gain.is_finite() && gain != 0.0,
-            "update {}: {gain}",
-            s.update
+    let (all, waiting) = (run(0.3, GainSeats::All), run(0.3, GainSeats::Waiting));
+    for on in [&all, &waiting] {
+        for s in &on[..2] {
+            let gain = s.belief_gain.expect("paid while the weight is above 0");
+            assert!(
+                gain.is_finite() && gain != 0.0,
+                "update {}: {gain}",
+                s.update
+            );
+        }
+        assert!(on[2..].iter().all(|s| s.belief_gain.is_none()));
+        let (a, b) = (&off[0], &on[0]);
+        assert_eq!(
+            serde_json::to_string(&a.games).unwrap(),
+            serde_json::to_string(&b.games).unwrap()
         );
+        assert_ne!(a.value_loss, b.value_loss);
     }
-    assert!(on[2..].iter().all(|s| s.belief_gain.is_none()));
-    let (a, b) = (&off[0], &on[0]);
-    assert_eq!(
-        serde_json::to_string(&a.games).unwrap(),
-        serde_json::to_string(&b.games).unwrap()
-    );
-    assert_ne!(a.value_loss, b.value_loss);
+    assert_ne!(all[0].belief_gain, waiting[0].belief_gain);
 }
 
 /// Tiny OBL configs of level 1 and of level 2 above it: level 1 trained one update and

@@ -26,7 +26,7 @@ pub use network::{
 };
 pub use obl::{BeliefOf, OblConfig, OblPartner};
 pub use overrides::Override;
-pub use ppo::{EndForm, GainBaseline, PpoConfig};
+pub use ppo::{EndForm, GainBaseline, GainSeats, PpoConfig};
 pub use presets::PRESETS;
 pub use run::RunConfig;
 

@@ -91,10 +91,11 @@ pub struct PpoConfig {
     /// `belief_aux`, whose colour layer reads it): a game's potential is the sum over its
     /// seats and cards of log p(the card's true colour) under the colour layer at the
     /// seat's state, and every step that is not an episode's last adds the weighted change
-    /// of that potential to both seats' reward. Potential-based, so it does not change
-    /// which policies are optimal; it pays a move at once for what it lets the partner (and
-    /// the mover) infer, where the game pays only through the ENDs it makes right, much
-    /// later. Annealed linearly to 0 over the first `belief_gain_fraction` of the run.
+    /// of that potential to both seats' reward. It pays a move at once for what it lets
+    /// the partner (and the mover) infer, where the game pays only through the ENDs it
+    /// makes right, much later. Potential-based, so it does not change which policies are
+    /// optimal, but for `belief_gain_seats = "waiting"` (the waiting seats' shares only),
+    /// which does while it lasts. Annealed linearly to 0 over the first `belief_gain_fraction` of the run.
     /// 0 (every preset, and left out of saved configs) turns it off.
     #[serde(skip_serializing_if = "is_zero")]
     pub belief_gain: f32,
@@ -105,6 +106,9 @@ pub struct PpoConfig {
     /// What a seat's share of the `belief_gain` potential counts (see [`GainBaseline`]).
     #[serde(skip_serializing_if = "GainBaseline::is_none")]
     pub belief_gain_baseline: GainBaseline,
+    /// Whose shares a step's `belief_gain` pays the change of (see [`GainSeats`]).
+    #[serde(skip_serializing_if = "GainSeats::is_all")]
+    pub belief_gain_seats: GainSeats,
 }
 
 impl Default for PpoConfig {
@@ -139,6 +143,7 @@ impl Default for PpoConfig {
             belief_gain: 0.0,
             belief_gain_fraction: 1.0,
             belief_gain_baseline: GainBaseline::None,
+            belief_gain_seats: GainSeats::All,
         }
     }
 }
@@ -232,6 +237,28 @@ pub enum GainBaseline {
 impl GainBaseline {
     fn is_none(&self) -> bool {
         *self == GainBaseline::None
+    }
+}
+
+/// Whose shares of the `ppo.belief_gain` potential a step pays the change of.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum GainSeats {
+    /// Every seat's: the change of the game's potential, which telescopes over a game to
+    /// Φ(last state) − Φ(first). Under a critic that keeps up, what lasts of it is that end
+    /// term (docs/results/cpu-belief-gain.md).
+    #[default]
+    All,
+    /// The waiting seats' only: what they came to know while another seat acted, which
+    /// only the acting seat's moves can have told them. What a seat learns on its own
+    /// steps (opening cards) is not paid, so the payments no longer telescope: while the
+    /// weight lasts they change which policies are best, towards moves that tell.
+    Waiting,
+}
+
+impl GainSeats {
+    fn is_all(&self) -> bool {
+        *self == GainSeats::All
     }
 }
 

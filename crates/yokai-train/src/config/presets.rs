@@ -190,6 +190,7 @@ mod tests {
                 belief_gain: 0.0,
                 belief_gain_fraction: 1.0,
                 belief_gain_baseline: crate::config::GainBaseline::None,
+                belief_gain_seats: crate::config::GainSeats::All,
             };
             assert_eq!(c.ppo, paper, "{name}");
             assert_eq!(c.act, ActConfig::default(), "{name}");

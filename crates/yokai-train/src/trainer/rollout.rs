@@ -165,6 +165,9 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         };
         ro.cluster_reward = cluster.map_or(0.0, |c| c.paid);
         self.value_targets(&net, &mut ro, kept);
+        if let (Some(gain), Some(paid)) = (&mut self.addons.gain, &ro.columns.potentials) {
+            gain.keep(paid);
+        }
         Ok(ro)
     }
 
@@ -357,7 +360,7 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
         let t_len = self.config.ppo.rollout_steps;
         let potentials = ro.columns.potentials.as_mut();
         let acted = self.run_network(net, (&last_obs, &keep, &[]), t_len, potentials);
-        if let Some(potentials) = &ro.columns.potentials {
+        if let Some(potentials) = &mut ro.columns.potentials {
             ro.belief_gain = Some(potentials.pay(&mut kept.rewards, &kept.dones));
         }
         let last_values = if net.critic_is_central() {

@@ -12,13 +12,19 @@
 //! which rewards ending a game with the colours known; the anneal takes even that away.
 //! With `ppo.belief_gain_baseline = "counting"` a seat's share counts only the cards it has
 //! not opened, each as log p − log p_counting: what it infers beyond counting, which only
-//! its partner's moves can tell it.
+//! its partner's moves can tell it. With `ppo.belief_gain_seats = "waiting"` only what a
+//! seat came to know while it waited is paid: its share at the first state of a turn less
+//! its share at the last state it acted at, paid at the step that hands it the turn. That
+//! is no longer a potential (what a seat learns on its own turn, opening cards, is left
+//! out), so it changes which policies are best while its weight lasts. Both ends are states
+//! the seat acts at, the only ones the belief loss trains the colour layer on: compared
+//! with a waiting state's, a share would rise by that difference at every turn.
 //! Its column is the rollout's potentials; it adds to the reward only, no loss term.
 //! On `cpu` at 40M steps neither form moved self-play (docs/results/cpu-belief-gain.md):
 //! with a critic that keeps up, what lasts of a potential-based payment is its end term.
 
 use crate::actor::Actor;
-use crate::config::{GainBaseline, PpoConfig};
+use crate::config::{GainBaseline, GainSeats, PpoConfig};
 use yokai_engine::{Card, Seat};
 
 #[derive(Clone, Debug)]
@@ -26,15 +32,26 @@ pub(in crate::trainer) struct BeliefGain {
     weight: f32,
     fraction: f32,
     baseline: GainBaseline,
+    seats: GainSeats,
+    /// [`GainSeats::Waiting`]: per row, its share at the last state its seat acted at in
+    /// the current game, carried from one rollout to the next (not saved in checkpoints:
+    /// a resumed run pays no seat's first turn).
+    held: Vec<Option<f32>>,
 }
 
 /// One rollout's potentials: per step (the rollout's `T` and the state after its last) and
-/// game, Φ of the game's state before that step is taken.
+/// row, the row's seat's share of Φ at the state before that step is taken, and per step
+/// and game the seat that acts there.
 pub(in crate::trainer) struct Potentials {
     weight: f32,
     baseline: GainBaseline,
+    seats: GainSeats,
     games: usize,
     phi: Vec<f32>,
+    acting: Vec<u8>,
+    /// [`GainSeats::Waiting`]: [`BeliefGain`]'s held shares, at the rollout's start and
+    /// then, once paid, at its end.
+    held: Vec<Option<f32>>,
     /// Scratch: one row's true colours in its seat's view, and (counting baseline) how
     /// many of its unopened cards each colour has.
     truth: Vec<u8>,
@@ -47,6 +64,8 @@ impl BeliefGain {
             weight: c.belief_gain,
             fraction: c.belief_gain_fraction,
             baseline: c.belief_gain_baseline,
+            seats: c.belief_gain_seats,
+            held: Vec::new(),
         })
     }
 
@@ -63,11 +82,23 @@ impl BeliefGain {
         (weight > 0.0).then(|| Potentials {
             weight,
             baseline: self.baseline,
+            seats: self.seats,
             games,
-            phi: vec![0.0; (t_len + 1) * games],
+            phi: vec![0.0; (t_len + 1) * actor.rows()],
+            acting: vec![0; (t_len + 1) * games],
+            held: if self.held.is_empty() {
+                vec![None; actor.rows()]
+            } else {
+                self.held.clone()
+            },
             truth: Vec::new(),
             left: Vec::new(),
         })
+    }
+
+    /// After a rollout is paid: the shares its seats held at its end.
+    pub fn keep(&mut self, paid: &Potentials) {
+        self.held.clone_from(&paid.held);
     }
 }
 
@@ -103,34 +134,54 @@ impl Potentials {
                     unopened().map(head).sum::<f32>() - counting
                 }
             };
-            self.phi[t * self.games + r / p] += phi;
+            self.phi[t * rows + r] = phi;
         }
+        let acting = actor.env().acting_seats();
+        self.acting[t * self.games..][..self.games].copy_from_slice(acting);
     }
 
-    /// The potential recorded for game `i` at step `t`.
+    /// The potential recorded for game `i` at step `t` (the sum of its seats' shares).
     #[cfg(test)]
     pub fn at(&self, t: usize, i: usize) -> f32 {
-        self.phi[t * self.games + i]
+        let p = self.phi.len() / self.acting.len();
+        self.phi[(t * self.games + i) * p..][..p].iter().sum()
     }
 
     /// Value targets: adds each step's weighted gain to both rows of its game in `rewards`
     /// (`[T × rows]`), but at the step that ends a game (`dones`, same shape), whose next
-    /// state is a new game's. Returns the gain paid before the weight, summed over steps and
-    /// games (nats).
-    pub fn pay(&self, rewards: &mut [f32], dones: &[f32]) -> f64 {
-        let rows = rewards.len() / (self.phi.len() / self.games - 1);
+    /// state is a new game's. A step's gain is the change of its game's potential, or with
+    /// [`GainSeats::Waiting`] what the seat it hands the turn to came to know since it last
+    /// acted. Returns the gain paid before the weight, summed over steps and games (nats).
+    pub fn pay(&mut self, rewards: &mut [f32], dones: &[f32]) -> f64 {
+        let t_len = self.acting.len() / self.games - 1;
+        let rows = self.phi.len() / (t_len + 1);
         let p = rows / self.games;
         let mut paid = 0.0;
-        for (t, step) in rewards.chunks_exact_mut(rows).enumerate() {
-            for (i, game) in step.chunks_exact_mut(p).enumerate() {
-                if dones[t * rows + i * p] > 0.5 {
+        for t in 0..t_len {
+            for i in 0..self.games {
+                let row = |t: usize, s: usize| t * rows + i * p + s;
+                let acting = self.acting[t * self.games + i] as usize;
+                self.held[i * p + acting] = Some(self.phi[row(t, acting)]);
+                if dones[row(t, 0)] > 0.5 {
+                    self.held[i * p..][..p].fill(None);
                     continue;
                 }
-                let gain = self.phi[(t + 1) * self.games + i] - self.phi[t * self.games + i];
+                let gain = match self.seats {
+                    GainSeats::All => (0..p)
+                        .map(|s| self.phi[row(t + 1, s)] - self.phi[row(t, s)])
+                        .sum(),
+                    GainSeats::Waiting => {
+                        let next = self.acting[(t + 1) * self.games + i] as usize;
+                        match self.held[i * p + next] {
+                            Some(held) if next != acting => self.phi[row(t + 1, next)] - held,
+                            _ => 0.0,
+                        }
+                    }
+                };
                 paid += gain as f64;
-                for reward in game {
-                    *reward += self.weight * gain;
-                }
+                rewards[row(t, 0)..][..p]
+                    .iter_mut()
+                    .for_each(|r| *r += self.weight * gain);
             }
         }
         paid
@@ -143,27 +194,89 @@ mod tests {
     use crate::network::MlpEncoder;
     use crate::trainer::Trainer;
 
-    fn potentials(phi: Vec<f32>, games: usize) -> Potentials {
-        Potentials {
+    fn unit(seats: GainSeats) -> BeliefGain {
+        BeliefGain {
             weight: 0.5,
+            fraction: 1.0,
             baseline: GainBaseline::None,
+            seats,
+            held: Vec::new(),
+        }
+    }
+
+    /// Hand-made potentials of `games` games of two seats: per step and row (`phi`,
+    /// `[(T + 1) × rows]`) and the acting seats (`[(T + 1) × games]`), with `held` carried in.
+    fn potentials(gain: &BeliefGain, games: usize, phi: &[f32], acting: &[u8]) -> Potentials {
+        Potentials {
+            weight: gain.weight,
+            baseline: gain.baseline,
+            seats: gain.seats,
             games,
-            phi,
+            phi: phi.to_vec(),
+            acting: acting.to_vec(),
+            held: if gain.held.is_empty() {
+                vec![None; 2 * games]
+            } else {
+                gain.held.clone()
+            },
             truth: Vec::new(),
             left: Vec::new(),
         }
     }
 
-    /// Two steps of two games of two seats: game 0 gains 1 nat then 2, game 1 loses 1 nat
-    /// then ends (its next potential, a new deal's, is not paid).
+    /// Two steps of two games. Game 0: seat 0 acts and gains 1 nat while seat 1 gains 2,
+    /// then seat 1 acts and gains 3 while seat 0 loses 1. Game 1: seat 1 acts, seat 0 gains 4
+    /// and seat 1 loses 5, then the game ends (its next potentials, a new deal's, are not
+    /// paid).
     #[test]
     fn pays_each_step_its_weighted_gain_but_the_last_of_a_game() {
-        let tally = potentials(vec![-5.0, -4.0, -4.0, -5.0, -2.0, -9.0], 2);
+        #[rustfmt::skip]
+        let phi = [
+            -5.0, -6.0, -9.0, -4.0,
+            -4.0, -4.0, -5.0, -9.0,
+            -5.0, -1.0, -2.0, -2.0,
+        ];
+        let mut tally = potentials(&unit(GainSeats::All), 2, &phi, &[0, 1, 1, 0, 0, 0]);
         let mut rewards = vec![0.0; 8];
         let dones = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 1.0];
         let paid = tally.pay(&mut rewards, &dones);
-        assert_eq!(rewards, [0.5, 0.5, -0.5, -0.5, 1.0, 1.0, 0.0, 0.0]);
-        assert_eq!(paid, 1.0 - 1.0 + 2.0);
+        assert_eq!(rewards, [1.5, 1.5, -0.5, -0.5, 1.0, 1.0, 0.0, 0.0]);
+        assert_eq!(paid, 3.0 - 1.0 + 2.0);
+        assert_eq!(tally.at(1, 0), -8.0);
+    }
+
+    /// With the waiting seats only, the step that hands a seat the turn pays its share at
+    /// the turn's first state less its share at the last state it acted at, carried over a
+    /// rollout's end and forgotten at a game's. One game: seat 0 acts at steps 0–1 (its
+    /// share −9, −7), seat 1 at 2–3 (−5, −4), seat 0 again at 4 (−3): step 3 pays −3 − (−7).
+    /// The next rollout (a new network's shares): seat 0 acts at step 0, seat 1 at step 1
+    /// with −3 against the −4 it held, and the game ends at step 1.
+    #[test]
+    fn the_waiting_form_pays_what_a_seat_came_to_know_between_its_turns() {
+        let mut gain = unit(GainSeats::Waiting);
+        #[rustfmt::skip]
+        let phi = [
+            -9.0, -8.0,
+            -7.0, -8.0,
+            -6.0, -5.0,
+            -6.0, -4.0,
+            -3.0, -2.0,
+        ];
+        let mut tally = potentials(&gain, 1, &phi, &[0, 0, 1, 1, 0]);
+        let mut rewards = vec![0.0; 8];
+        let paid = tally.pay(&mut rewards, &[0.0; 8]);
+        assert_eq!(rewards, [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 2.0, 2.0]);
+        assert_eq!(paid, 4.0);
+        gain.keep(&tally);
+        assert_eq!(gain.held, [Some(-7.0), Some(-4.0)]);
+
+        let mut tally = potentials(&gain, 1, &[-1.0, -1.0, -1.0, -3.0, 0.0, 0.0], &[0, 1, 1]);
+        let mut rewards = vec![0.0; 4];
+        let paid = tally.pay(&mut rewards, &[0.0, 0.0, 1.0, 1.0]);
+        assert_eq!(rewards, [0.5, 0.5, 0.0, 0.0]);
+        assert_eq!(paid, 1.0);
+        gain.keep(&tally);
+        assert_eq!(gain.held, [None, None]);
     }
 
     /// A fresh Other-Play trainer of 3 games (6 rows), each seat naming colours its own way.
@@ -212,15 +325,16 @@ mod tests {
             weight: 1.0,
             fraction: 1.0,
             baseline: GainBaseline::None,
+            seats: GainSeats::All,
+            held: Vec::new(),
         };
         let mut tally = unit.column(0.0, 2, actor).unwrap();
         tally.record(1, &log_probs, actor);
         let y = 9.0;
-        assert_eq!(&tally.phi[3..6], [-3.0 * y, -7.0 * y, -11.0 * y]);
-        assert!(tally.phi[..3]
-            .iter()
-            .chain(&tally.phi[6..])
-            .all(|&x| x == 0.0));
+        let at_1: Vec<f32> = (0..3).map(|i| tally.at(1, i)).collect();
+        assert_eq!(at_1, [-3.0 * y, -7.0 * y, -11.0 * y]);
+        assert_eq!(&tally.acting[3..6], actor.env().acting_seats());
+        assert!((0..3).all(|i| tally.at(0, i) == 0.0 && tally.at(2, i) == 0.0));
     }
 
     /// With the counting baseline a seat's share counts its unopened cards only, each as
@@ -239,11 +353,14 @@ mod tests {
             weight: 1.0,
             fraction: 1.0,
             baseline: GainBaseline::Counting,
+            seats: GainSeats::All,
+            held: Vec::new(),
         };
         let mut tally = unit.column(0.0, 5, actor).unwrap();
         tally.record(0, &log_probs, actor);
         let mut opened_any = false;
-        for (i, &phi) in tally.phi[..3].iter().enumerate() {
+        for i in 0..3 {
+            let phi = tally.at(0, i);
             let game = actor.game(i);
             let expected: f64 = (0..2)
                 .map(|s| {
@@ -274,6 +391,8 @@ mod tests {
             weight: 0.2,
             fraction: 0.5,
             baseline: GainBaseline::None,
+            seats: GainSeats::All,
+            held: Vec::new(),
         };
         assert_eq!(unit.weight_at(0.0), 0.2);
         assert!((unit.weight_at(0.25) - 0.1).abs() < 1e-7);
