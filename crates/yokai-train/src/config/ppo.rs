@@ -94,8 +94,8 @@ pub struct PpoConfig {
     /// of that potential to both seats' reward. It pays a move at once for what it lets
     /// the partner (and the mover) infer, where the game pays only through the ENDs it
     /// makes right, much later. Potential-based, so it does not change which policies are
-    /// optimal, but for `belief_gain_seats = "waiting"` (the waiting seats' shares only),
-    /// which does while it lasts. Annealed linearly to 0 over the first `belief_gain_fraction` of the run.
+    /// optimal; `belief_gain_seats = "waiting"` pays another way, which does while it
+    /// lasts. Annealed linearly to 0 over the first `belief_gain_fraction` of the run.
     /// 0 (every preset, and left out of saved configs) turns it off.
     #[serde(skip_serializing_if = "is_zero")]
     pub belief_gain: f32,
@@ -106,7 +106,7 @@ pub struct PpoConfig {
     /// What a seat's share of the `belief_gain` potential counts (see [`GainBaseline`]).
     #[serde(skip_serializing_if = "GainBaseline::is_none")]
     pub belief_gain_baseline: GainBaseline,
-    /// Whose shares a step's `belief_gain` pays the change of (see [`GainSeats`]).
+    /// Whose shares of the `belief_gain` potential are paid, and when (see [`GainSeats`]).
     #[serde(skip_serializing_if = "GainSeats::is_all")]
     pub belief_gain_seats: GainSeats,
 }
@@ -240,7 +240,7 @@ impl GainBaseline {
     }
 }
 
-/// Whose shares of the `ppo.belief_gain` potential a step pays the change of.
+/// Whose shares of the `ppo.belief_gain` potential are paid, and when.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum GainSeats {
@@ -249,10 +249,14 @@ pub enum GainSeats {
     /// term (docs/results/cpu-belief-gain.md).
     #[default]
     All,
-    /// The waiting seats' only: what they came to know while another seat acted, which
-    /// only the acting seat's moves can have told them. What a seat learns on its own
-    /// steps (opening cards) is not paid, so the payments no longer telescope: while the
-    /// weight lasts they change which policies are best, towards moves that tell.
+    /// What a seat came to know while its partner played: at the step that hands it the
+    /// turn, its share at the turn's first state less its share at the last state it
+    /// acted at (both states the belief loss trains the colour layer on). What a seat
+    /// learns on its own turn (opening cards) is not paid, so the payments no longer
+    /// telescope: while the weight lasts they change which policies are best. What a turn
+    /// tells is never negative in expectation, so they also pay for more turns: at weight
+    /// 1.0 on `cpu` the seats stopped ENDing while paid
+    /// (docs/results/cpu-belief-gain-waiting.md).
     Waiting,
 }
 

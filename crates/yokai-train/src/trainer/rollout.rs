@@ -472,6 +472,48 @@ mod tests {
         });
     }
 
+    /// The waiting form of the belief gain carries each row's last acting share from one
+    /// rollout to the next: after a rollout the trainer holds, for each game's seat that
+    /// acted last, the share recorded at that state, and no share for a seat that has not
+    /// acted in its current game.
+    #[test]
+    fn the_waiting_form_carries_the_last_acting_shares_to_the_next_rollout() {
+        use rand_chacha::rand_core::SeedableRng;
+        let c = TrainConfig::from_toml_str(
+            "[network]\npreset = \"compact\"\nhidden = 16\nhead = \"pointer\"\n\
+             [ppo]\nnum_envs = 4\nrollout_steps = 5\nminibatches = 1\nbelief_aux = 0.5\n\
+             belief_gain = 0.2\nbelief_gain_seats = \"waiting\"\n[run]\nthreads = 1\n",
+            "test",
+        )
+        .unwrap();
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let mut trainer = Trainer::<MlpEncoder>::new(c, 8).unwrap();
+            let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
+            let ro = trainer.collect(1.0, &mut rng).unwrap();
+            let potentials = ro.columns.potentials.as_ref().expect("recorded");
+            let held = trainer.addons.gain.as_ref().expect("on").held();
+            assert_eq!(held.len(), trainer.actor.rows());
+            // The last paid step is 4: the seat acting there holds its share at step 4,
+            // unless that step ended its game (an END), after which neither seat holds any.
+            let mut carried = 0;
+            for i in 0..4 {
+                let r = i * 2 + potentials.acting_at(4, i) as usize;
+                match held[r] {
+                    Some(share) => {
+                        assert_eq!(share, potentials.share_at(4, r), "game {i}");
+                        carried += 1;
+                    }
+                    None => assert_eq!(held[i * 2..][..2], [None, None], "game {i}"),
+                }
+            }
+            assert!(carried > 0, "some game went on past step 4");
+        });
+    }
+
     /// The next update writes over the last rollout's observation and mask buffers, so
     /// nothing they held shows: with every float of them NaN before the second update it
     /// learns the same parameters, bit for bit, and they are finite.

@@ -20,8 +20,10 @@
 //! the seat acts at, the only ones the belief loss trains the colour layer on: compared
 //! with a waiting state's, a share would rise by that difference at every turn.
 //! Its column is the rollout's potentials; it adds to the reward only, no loss term.
-//! On `cpu` at 40M steps neither form moved self-play (docs/results/cpu-belief-gain.md):
-//! with a critic that keeps up, what lasts of a potential-based payment is its end term.
+//! On `cpu` at 40M steps neither potential form moved self-play
+//! (docs/results/cpu-belief-gain.md): with a critic that keeps up, what lasts of a
+//! potential-based payment is its end term. The waiting form did not either at weight 0.5,
+//! and at 1.0 paid for more turns (docs/results/cpu-belief-gain-waiting.md).
 
 use crate::actor::Actor;
 use crate::config::{GainBaseline, GainSeats, PpoConfig};
@@ -100,6 +102,13 @@ impl BeliefGain {
     pub fn keep(&mut self, paid: &Potentials) {
         self.held.clone_from(&paid.held);
     }
+
+    /// Per row, the share held from the last state its seat acted at (empty before the
+    /// first rollout).
+    #[cfg(test)]
+    pub fn held(&self) -> &[Option<f32>] {
+        &self.held
+    }
 }
 
 impl Potentials {
@@ -145,6 +154,19 @@ impl Potentials {
     pub fn at(&self, t: usize, i: usize) -> f32 {
         let p = self.phi.len() / self.acting.len();
         self.phi[(t * self.games + i) * p..][..p].iter().sum()
+    }
+
+    /// The seat acting in game `i` at step `t`.
+    #[cfg(test)]
+    pub fn acting_at(&self, t: usize, i: usize) -> u8 {
+        self.acting[t * self.games + i]
+    }
+
+    /// Row `r`'s share recorded at step `t`.
+    #[cfg(test)]
+    pub fn share_at(&self, t: usize, r: usize) -> f32 {
+        let rows = self.phi.len() / (self.acting.len() / self.games);
+        self.phi[t * rows + r]
     }
 
     /// Value targets: adds each step's weighted gain to both rows of its game in `rewards`
