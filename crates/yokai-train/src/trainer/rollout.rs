@@ -417,6 +417,30 @@ mod tests {
         })
     }
 
+    /// Runs `f` on one worker thread with a fresh trainer (seed 8) of 4 games of the
+    /// compact pointer network, the belief loss and the belief gain at 0.2, `rollout_steps`
+    /// steps per rollout and `extra` lines of `[ppo]`.
+    fn on_one_thread_with_belief_gain(
+        rollout_steps: usize,
+        extra: &str,
+        f: impl FnOnce(Trainer<MlpEncoder>) + Send,
+    ) {
+        let c = TrainConfig::from_toml_str(
+            &format!(
+                "[network]\npreset = \"compact\"\nhidden = 16\nhead = \"pointer\"\n\
+                 [ppo]\nnum_envs = 4\nrollout_steps = {rollout_steps}\nminibatches = 1\n\
+                 belief_aux = 0.5\nbelief_gain = 0.2\n{extra}[run]\nthreads = 1\n"
+            ),
+            "test",
+        )
+        .unwrap();
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap();
+        pool.install(|| f(Trainer::<MlpEncoder>::new(c, 8).unwrap()));
+    }
+
     /// The belief gain's potentials are recorded at the states they belong to: at a
     /// rollout's first step every game is at its first state with an empty memory, and
     /// each game's recorded potential is what the colour layer gives the true colours
@@ -428,19 +452,7 @@ mod tests {
         use burn::module::Module;
         use rand_chacha::rand_core::SeedableRng;
         use yokai_engine::{Card, Seat};
-        let c = TrainConfig::from_toml_str(
-            "[network]\npreset = \"compact\"\nhidden = 16\nhead = \"pointer\"\n\
-             [ppo]\nnum_envs = 4\nrollout_steps = 3\nminibatches = 1\nbelief_aux = 0.5\n\
-             belief_gain = 0.2\n[run]\nthreads = 1\n",
-            "test",
-        )
-        .unwrap();
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(1)
-            .build()
-            .unwrap();
-        pool.install(|| {
-            let mut trainer = Trainer::<MlpEncoder>::new(c, 8).unwrap();
+        on_one_thread_with_belief_gain(3, "", |mut trainer| {
             let games: Vec<_> = (0..4).map(|i| trainer.actor.game(i).clone()).collect();
             let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
             let ro = trainer.collect(1.0, &mut rng).unwrap();
@@ -479,19 +491,7 @@ mod tests {
     #[test]
     fn the_waiting_form_carries_the_last_acting_shares_to_the_next_rollout() {
         use rand_chacha::rand_core::SeedableRng;
-        let c = TrainConfig::from_toml_str(
-            "[network]\npreset = \"compact\"\nhidden = 16\nhead = \"pointer\"\n\
-             [ppo]\nnum_envs = 4\nrollout_steps = 5\nminibatches = 1\nbelief_aux = 0.5\n\
-             belief_gain = 0.2\nbelief_gain_seats = \"waiting\"\n[run]\nthreads = 1\n",
-            "test",
-        )
-        .unwrap();
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(1)
-            .build()
-            .unwrap();
-        pool.install(|| {
-            let mut trainer = Trainer::<MlpEncoder>::new(c, 8).unwrap();
+        on_one_thread_with_belief_gain(5, "belief_gain_seats = \"waiting\"\n", |mut trainer| {
             let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
             let ro = trainer.collect(1.0, &mut rng).unwrap();
             let potentials = ro.columns.potentials.as_ref().expect("recorded");
