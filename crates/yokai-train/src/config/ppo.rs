@@ -256,7 +256,9 @@ pub enum GainSeats {
     /// telescope: while the weight lasts they change which policies are best. What a turn
     /// tells is never negative in expectation, so they also pay for more turns: at weight
     /// 1.0 on `cpu` the seats stopped ENDing while paid
-    /// (docs/results/cpu-belief-gain-waiting.md).
+    /// (docs/results/cpu-belief-gain-waiting.md). Under perfect memory a seat's unopened
+    /// cards do not change while it waits, so the baseline cancels out of the payment;
+    /// under imperfect memory the cards it opened on its turn count again at its next one.
     Waiting,
 }
 
