@@ -85,9 +85,10 @@ pub struct UpdateStats {
     /// games: what `ppo.cluster_shaping` paid before its weight (0 when it is off).
     #[serde(default)]
     pub cluster_reward: f64,
-    /// With `ppo.belief_gain`, while its weight is above 0: the net change of the games'
-    /// belief potentials over the rollout's non-final steps, summed over games, in nats,
-    /// before the weight (what the team came to know of the colours).
+    /// With `ppo.belief_gain`, while its weight is above 0: what it paid over the rollout's
+    /// non-final steps, summed over games, in nats, before the weight (what the team came to
+    /// know of the colours): the net change of the games' potentials, or with
+    /// `belief_gain_seats = "waiting"` what the seats came to know between their turns.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub belief_gain: Option<f64>,
     /// The entropy bonus of this update, where it follows a schedule (`ppo.entropy_final`).

@@ -41,8 +41,8 @@ pub(super) struct Rollout {
     pub entropy: f64,
     /// Net change in clustered colours paid by the clustering shaping, unweighted.
     pub cluster_reward: f64,
-    /// Net change in the games' belief potentials paid by the belief-gain reward,
-    /// unweighted (nats); `None` when it is off or has annealed away.
+    /// What the belief-gain reward paid, unweighted (nats; see [`super::UpdateStats`]);
+    /// `None` when it is off or has annealed away.
     pub belief_gain: Option<f64>,
     /// The add-ons' columns.
     pub columns: Columns,

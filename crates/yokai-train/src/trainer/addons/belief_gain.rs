@@ -17,8 +17,8 @@
 //! its share at the last state it acted at, paid at the step that hands it the turn. That
 //! is no longer a potential (what a seat learns on its own turn, opening cards, is left
 //! out), so it changes which policies are best while its weight lasts. Both ends are states
-//! the seat acts at, the only ones the belief loss trains the colour layer on: compared
-//! with a waiting state's, a share would rise by that difference at every turn.
+//! the seat acts at, the only ones the belief loss trains the colour layer on; a share read
+//! at a waiting state would add, at every turn, however the layer reads untrained states.
 //! Its column is the rollout's potentials; it adds to the reward only, no loss term.
 //! On `cpu` at 40M steps neither potential form moved self-play
 //! (docs/results/cpu-belief-gain.md): with a critic that keeps up, what lasts of a
@@ -88,10 +88,10 @@ impl BeliefGain {
             games,
             phi: vec![0.0; (t_len + 1) * actor.rows()],
             acting: vec![0; (t_len + 1) * games],
-            held: if self.held.is_empty() {
-                vec![None; actor.rows()]
-            } else {
-                self.held.clone()
+            held: {
+                let mut held = self.held.clone();
+                held.resize(actor.rows(), None);
+                held
             },
             truth: Vec::new(),
             left: Vec::new(),
