@@ -341,7 +341,8 @@ fn reading_colours_acts_as_act_does_and_gives_every_rows_colour_layer() {
 /// the games' potentials (finite, not 0), the first rollout plays the games the plain one
 /// plays (the reward changes only what is learnt), and once the weight has annealed to 0
 /// (`belief_gain_fraction` = 0.5 of 4 updates) nothing more is paid. Paid to the waiting
-/// seats only, the same holds and the gain logged differs from every seat's.
+/// seats only (plain or centred), the same holds and the gain logged differs from every
+/// seat's; centring changes the rewards but not the gain logged.
 #[test]
 fn belief_gain_pays_what_the_colour_layer_learns_and_anneals() {
     let run = |weight: f32, seats: GainSeats| {
@@ -362,7 +363,8 @@ fn belief_gain_pays_what_the_colour_layer_learns_and_anneals() {
     let off = run(0.0, GainSeats::All);
     assert!(off.iter().all(|s| s.belief_gain.is_none()));
     let (all, waiting) = (run(0.3, GainSeats::All), run(0.3, GainSeats::Waiting));
-    for on in [&all, &waiting] {
+    let centred = run(0.3, GainSeats::Centred);
+    for on in [&all, &waiting, &centred] {
         for s in &on[..2] {
             let gain = s.belief_gain.expect("paid while the weight is above 0");
             assert!(
@@ -380,6 +382,10 @@ fn belief_gain_pays_what_the_colour_layer_learns_and_anneals() {
         assert_ne!(a.value_loss, b.value_loss);
     }
     assert_ne!(all[0].belief_gain, waiting[0].belief_gain);
+    // The first rollouts are the same, so are their gains before centring; the centred
+    // rewards differ, and so does what the critic learns of them.
+    assert_eq!(waiting[0].belief_gain, centred[0].belief_gain);
+    assert_ne!(waiting[0].value_loss, centred[0].value_loss);
 }
 
 /// Tiny OBL configs of level 1 and of level 2 above it: level 1 trained one update and

@@ -173,12 +173,15 @@ impl Potentials {
     /// (`[T × rows]`), but at the step that ends a game (`dones`, same shape), whose next
     /// state is a new game's. A step's gain is the change of its game's potential, or with
     /// [`GainSeats::Waiting`] what the seat it hands the turn to came to know since it last
-    /// acted. Returns the gain paid before the weight, summed over steps and games (nats).
+    /// acted, or with [`GainSeats::Centred`] that less the rollout's mean over such
+    /// handovers. Returns the gain before the weight and before centring, summed over steps
+    /// and games (nats).
     pub fn pay(&mut self, rewards: &mut [f32], dones: &[f32]) -> f64 {
         let t_len = self.acting.len() / self.games - 1;
         let rows = self.phi.len() / (t_len + 1);
         let p = rows / self.games;
-        let mut paid = 0.0;
+        // Per step and game, the gain its step pays (`None`: nothing to pay).
+        let mut gains = vec![None; t_len * self.games];
         for t in 0..t_len {
             for i in 0..self.games {
                 let row = |t: usize, s: usize| t * rows + i * p + s;
@@ -188,22 +191,33 @@ impl Potentials {
                     self.held[i * p..][..p].fill(None);
                     continue;
                 }
-                let gain = match self.seats {
-                    GainSeats::All => (0..p)
-                        .map(|s| self.phi[row(t + 1, s)] - self.phi[row(t, s)])
-                        .sum(),
-                    GainSeats::Waiting => {
+                gains[t * self.games + i] = match self.seats {
+                    GainSeats::All => Some(
+                        (0..p)
+                            .map(|s| self.phi[row(t + 1, s)] - self.phi[row(t, s)])
+                            .sum(),
+                    ),
+                    GainSeats::Waiting | GainSeats::Centred => {
                         let next = self.acting[(t + 1) * self.games + i] as usize;
-                        match self.held[i * p + next] {
-                            Some(held) if next != acting => self.phi[row(t + 1, next)] - held,
-                            _ => 0.0,
-                        }
+                        self.held[i * p + next]
+                            .filter(|_| next != acting)
+                            .map(|held| self.phi[row(t + 1, next)] - held)
                     }
                 };
-                paid += gain as f64;
-                rewards[row(t, 0)..][..p]
+            }
+        }
+        let paid: f64 = gains.iter().flatten().map(|&g| g as f64).sum();
+        let handovers = gains.iter().flatten().count();
+        let mean = match self.seats {
+            GainSeats::Centred if handovers > 0 => (paid / handovers as f64) as f32,
+            _ => 0.0,
+        };
+        for (k, gain) in gains.iter().enumerate() {
+            if let Some(gain) = gain {
+                let (t, i) = (k / self.games, k % self.games);
+                rewards[t * rows + i * p..][..p]
                     .iter_mut()
-                    .for_each(|r| *r += self.weight * gain);
+                    .for_each(|r| *r += self.weight * (gain - mean));
             }
         }
         paid
@@ -299,6 +313,34 @@ mod tests {
         assert_eq!(paid, 1.0);
         gain.keep(&tally);
         assert_eq!(gain.held, [None, None]);
+    }
+
+    /// The centred form pays each handover its waiting gain less the rollout's mean over
+    /// handovers. One game, the seats taking turns at every step: steps 1–3 hand seats
+    /// the turn with gains 3, 1 and 2 (step 0 hands seat 1 its first turn: nothing held).
+    #[test]
+    fn the_centred_form_pays_each_handover_its_gain_less_the_mean() {
+        #[rustfmt::skip]
+        let phi = [
+            -9.0, -8.0,
+            -9.0, -8.0,
+            -6.0, -8.0,
+            -6.0, -7.0,
+            -4.0, -7.0,
+        ];
+        let acting = [0, 1, 0, 1, 0];
+        let pay = |seats| {
+            let mut tally = potentials(&unit(seats), 1, &phi, &acting);
+            let mut rewards = vec![0.0; 8];
+            let paid = tally.pay(&mut rewards, &[0.0; 8]);
+            (rewards, paid)
+        };
+        let waiting = pay(GainSeats::Waiting);
+        assert_eq!(waiting.0, [0.0, 0.0, 1.5, 1.5, 0.5, 0.5, 1.0, 1.0]);
+        assert_eq!(waiting.1, 6.0);
+        let centred = pay(GainSeats::Centred);
+        assert_eq!(centred.0, [0.0, 0.0, 0.5, 0.5, -0.5, -0.5, 0.0, 0.0]);
+        assert_eq!(centred.1, 6.0);
     }
 
     /// A fresh Other-Play trainer of 3 games (6 rows), each seat naming colours its own way.
