@@ -260,10 +260,12 @@ pub enum GainSeats {
     /// cards do not change while it waits, so the baseline cancels out of the payment;
     /// under imperfect memory the cards it opened on its turn count again at its next one.
     Waiting,
-    /// The `Waiting` payments less their mean over the rollout's handovers: a turn is paid
-    /// for telling more than the turns around it, and a game's turns no longer pay in
-    /// themselves, so a longer game is not paid more on average. One mean for every turn:
-    /// if early turns tell more (more is left to tell), they are paid above it.
+    /// The `Waiting` payments less their mean over the rollout's handovers at the same
+    /// step of a game: a turn is paid for telling more than turns at that point of a game
+    /// usually do, and a turn added to a game is not paid in itself on average. (One mean
+    /// over all the rollout's handovers, a first form, paid early turns, which tell more,
+    /// and charged late ones: in a pilot on `cpu` the seats ENDed early and wrongly,
+    /// docs/results/cpu-belief-gain-centred.md.)
     Centred,
 }
 

@@ -19,6 +19,8 @@
 //! out), so it changes which policies are best while its weight lasts. Both ends are states
 //! the seat acts at, the only ones the belief loss trains the colour layer on; a share read
 //! at a waiting state would add, at every turn, however the layer reads untrained states.
+//! With `"centred"` each of those payments is less the rollout's mean over the handovers at
+//! the same step of a game, so that the turns a game lasts are not paid in themselves.
 //! Its column is the rollout's potentials; it adds to the reward only, no loss term.
 //! On `cpu` at 40M steps neither potential form moved self-play
 //! (docs/results/cpu-belief-gain.md): with a critic that keeps up, what lasts of a
@@ -51,6 +53,8 @@ pub(in crate::trainer) struct Potentials {
     games: usize,
     phi: Vec<f32>,
     acting: Vec<u8>,
+    /// Per step and game, the steps its game had taken at the state before that step.
+    steps: Vec<u16>,
     /// [`GainSeats::Waiting`]: [`BeliefGain`]'s held shares, at the rollout's start and
     /// then, once paid, at its end.
     held: Vec<Option<f32>>,
@@ -88,6 +92,7 @@ impl BeliefGain {
             games,
             phi: vec![0.0; (t_len + 1) * actor.rows()],
             acting: vec![0; (t_len + 1) * games],
+            steps: vec![0; (t_len + 1) * games],
             held: {
                 let mut held = self.held.clone();
                 held.resize(actor.rows(), None);
@@ -147,6 +152,12 @@ impl Potentials {
         }
         let acting = actor.env().acting_seats();
         self.acting[t * self.games..][..self.games].copy_from_slice(acting);
+        for (i, steps) in self.steps[t * self.games..][..self.games]
+            .iter_mut()
+            .enumerate()
+        {
+            *steps = actor.game(i).steps().min(u16::MAX as usize) as u16;
+        }
     }
 
     /// The potential recorded for game `i` at step `t` (the sum of its seats' shares).
@@ -173,8 +184,8 @@ impl Potentials {
     /// (`[T × rows]`), but at the step that ends a game (`dones`, same shape), whose next
     /// state is a new game's. A step's gain is the change of its game's potential, or with
     /// [`GainSeats::Waiting`] what the seat it hands the turn to came to know since it last
-    /// acted, or with [`GainSeats::Centred`] that less the rollout's mean over such
-    /// handovers. Returns the gain before the weight and before centring, summed over steps
+    /// acted, or with [`GainSeats::Centred`] that less the rollout's mean over the
+    /// handovers at the same step of a game. Returns the gain before the weight and before centring, summed over steps
     /// and games (nats).
     pub fn pay(&mut self, rewards: &mut [f32], dones: &[f32]) -> f64 {
         let t_len = self.acting.len() / self.games - 1;
@@ -207,17 +218,29 @@ impl Potentials {
             }
         }
         let paid: f64 = gains.iter().flatten().map(|&g| g as f64).sum();
-        let handovers = gains.iter().flatten().count();
-        let mean = match self.seats {
-            GainSeats::Centred if handovers > 0 => (paid / handovers as f64) as f32,
-            _ => 0.0,
-        };
+        // Centred: per step of a game at the turn's first state, the handovers' mean gain.
+        let step_after = |k: usize| self.steps[k + self.games] as usize;
+        let mut means = Vec::<(f64, u32)>::new();
+        if self.seats == GainSeats::Centred {
+            for (k, gain) in gains.iter().enumerate() {
+                if let Some(gain) = gain {
+                    if means.len() <= step_after(k) {
+                        means.resize(step_after(k) + 1, (0.0, 0));
+                    }
+                    means[step_after(k)].0 += *gain as f64;
+                    means[step_after(k)].1 += 1;
+                }
+            }
+        }
         for (k, gain) in gains.iter().enumerate() {
             if let Some(gain) = gain {
+                let mean = means
+                    .get(step_after(k))
+                    .map_or(0.0, |&(sum, n)| sum / n as f64);
                 let (t, i) = (k / self.games, k % self.games);
                 rewards[t * rows + i * p..][..p]
                     .iter_mut()
-                    .for_each(|r| *r += self.weight * (gain - mean));
+                    .for_each(|r| *r += self.weight * (gain - mean as f32));
             }
         }
         paid
@@ -250,6 +273,7 @@ mod tests {
             games,
             phi: phi.to_vec(),
             acting: acting.to_vec(),
+            steps: (0..acting.len()).map(|k| (k / games) as u16).collect(),
             held: if gain.held.is_empty() {
                 vec![None; 2 * games]
             } else {
@@ -315,32 +339,44 @@ mod tests {
         assert_eq!(gain.held, [None, None]);
     }
 
-    /// The centred form pays each handover its waiting gain less the rollout's mean over
-    /// handovers. One game, the seats taking turns at every step: steps 1–3 hand seats
-    /// the turn with gains 3, 1 and 2 (step 0 hands seat 1 its first turn: nothing held).
+    /// The centred form pays each handover its waiting gain less the mean over the
+    /// rollout's handovers at the same step of a game. Two games, their seats taking turns
+    /// at every step: steps 1–3 hand seats the turn with gains 3, 1, 2 in game 0 and 1, 1, 4
+    /// in game 1 (step 0 hands seat 1 its first turn: nothing held), so the means per step
+    /// are 2, 1, 3 (one mean over all six, 2, would pay step 2 too).
     #[test]
-    fn the_centred_form_pays_each_handover_its_gain_less_the_mean() {
+    fn the_centred_form_pays_each_handover_its_gain_less_the_mean_at_its_step() {
         #[rustfmt::skip]
         let phi = [
-            -9.0, -8.0,
-            -9.0, -8.0,
-            -6.0, -8.0,
-            -6.0, -7.0,
-            -4.0, -7.0,
+            -9.0, -8.0, -9.0, -8.0,
+            -9.0, -8.0, -9.0, -8.0,
+            -6.0, -8.0, -8.0, -8.0,
+            -6.0, -7.0, -8.0, -7.0,
+            -4.0, -7.0, -4.0, -7.0,
         ];
-        let acting = [0, 1, 0, 1, 0];
+        let acting = [0, 0, 1, 1, 0, 0, 1, 1, 0, 0];
         let pay = |seats| {
-            let mut tally = potentials(&unit(seats), 1, &phi, &acting);
-            let mut rewards = vec![0.0; 8];
-            let paid = tally.pay(&mut rewards, &[0.0; 8]);
+            let mut tally = potentials(&unit(seats), 2, &phi, &acting);
+            let mut rewards = vec![0.0; 16];
+            let paid = tally.pay(&mut rewards, &[0.0; 16]);
             (rewards, paid)
         };
-        let waiting = pay(GainSeats::Waiting);
-        assert_eq!(waiting.0, [0.0, 0.0, 1.5, 1.5, 0.5, 0.5, 1.0, 1.0]);
-        assert_eq!(waiting.1, 6.0);
-        let centred = pay(GainSeats::Centred);
-        assert_eq!(centred.0, [0.0, 0.0, 0.5, 0.5, -0.5, -0.5, 0.0, 0.0]);
-        assert_eq!(centred.1, 6.0);
+        #[rustfmt::skip]
+        let waiting = [
+            0.0, 0.0, 0.0, 0.0,
+            1.5, 1.5, 0.5, 0.5,
+            0.5, 0.5, 0.5, 0.5,
+            1.0, 1.0, 2.0, 2.0,
+        ];
+        assert_eq!(pay(GainSeats::Waiting), (waiting.to_vec(), 12.0));
+        #[rustfmt::skip]
+        let centred = [
+            0.0, 0.0, 0.0, 0.0,
+            0.5, 0.5, -0.5, -0.5,
+            0.0, 0.0, 0.0, 0.0,
+            -0.5, -0.5, 0.5, 0.5,
+        ];
+        assert_eq!(pay(GainSeats::Centred), (centred.to_vec(), 12.0));
     }
 
     /// A fresh Other-Play trainer of 3 games (6 rows), each seat naming colours its own way.
