@@ -342,7 +342,8 @@ fn reading_colours_acts_as_act_does_and_gives_every_rows_colour_layer() {
 /// plays (the reward changes only what is learnt), and once the weight has annealed to 0
 /// (`belief_gain_fraction` = 0.5 of 4 updates) nothing more is paid. Paid to the waiting
 /// seats only (plain or centred), the same holds and the gain logged differs from every
-/// seat's; centring changes the rewards but not the gain logged.
+/// seat's; centring changes the rewards but not the gain logged. Credited to the turns
+/// instead, the gains are those of the centred form and the policy's step changes.
 #[test]
 fn belief_gain_pays_what_the_colour_layer_learns_and_anneals() {
     let run = |weight: f32, seats: GainSeats| {
@@ -386,6 +387,17 @@ fn belief_gain_pays_what_the_colour_layer_learns_and_anneals() {
     // rewards differ, and so does what the critic learns of them.
     assert_eq!(waiting[0].belief_gain, centred[0].belief_gain);
     assert_ne!(waiting[0].value_loss, centred[0].value_loss);
+    // As credit for the turns (the advantages, not the reward): the same games and gains
+    // as centred, paid while the weight lasts, and a different policy step than without.
+    let turn = run(0.3, GainSeats::Turn);
+    assert_eq!(
+        serde_json::to_string(&off[0].games).unwrap(),
+        serde_json::to_string(&turn[0].games).unwrap()
+    );
+    assert_eq!(turn[0].belief_gain, centred[0].belief_gain);
+    assert!(turn[..2].iter().all(|s| s.belief_gain.is_some()));
+    assert!(turn[2..].iter().all(|s| s.belief_gain.is_none()));
+    assert_ne!(off[0].policy_loss, turn[0].policy_loss);
 }
 
 /// Tiny OBL configs of level 1 and of level 2 above it: level 1 trained one update and

@@ -261,12 +261,21 @@ pub enum GainSeats {
     /// under imperfect memory the cards it opened on its turn count again at its next one.
     Waiting,
     /// The `Waiting` payments less their mean over the rollout's handovers at the same
-    /// step of a game: a turn is paid for telling more than turns at that point of a game
-    /// usually do, and a turn added to a game is not paid in itself on average. (One mean
-    /// over all the rollout's handovers, a first form, paid early turns, which tell more,
-    /// and charged late ones: in a pilot on `cpu` the seats ENDed early and wrongly,
-    /// docs/results/cpu-belief-gain-centred.md.)
+    /// step of a game: a turn added to a game is not paid in itself on average. But in a
+    /// given state the turns to come are expected to tell more or less than the mean, so
+    /// going on is still paid or charged there, and END is the way out of a charge: at
+    /// weight 1.0 on `cpu` the seats ENDed early and wrongly while it was paid (as with one
+    /// mean over all of a rollout's handovers, a first form;
+    /// docs/results/cpu-belief-gain-centred.md). `Turn` credits the same payments to the
+    /// turns that earned them instead.
     Centred,
+    /// The `Centred` payments as credit for the turn that earned them: each handover's is
+    /// added to the advantages of the choices of the seat whose turn it ends (but the
+    /// turn's first, where END is chosen), not to the reward. No value learns it and no
+    /// earlier step's advantage carries it, so it cannot pay or charge for the turns a
+    /// game goes on: what it reinforces is a turn that told more than turns at that point
+    /// of a game usually do.
+    Turn,
 }
 
 impl GainSeats {

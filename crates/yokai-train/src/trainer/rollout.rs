@@ -378,6 +378,9 @@ impl<E: Encoder, M: Recurrent> Trainer<E, M> {
             c.gae_lambda,
         );
         (ro.adv, ro.returns) = (adv, returns);
+        if let Some(potentials) = &ro.columns.potentials {
+            potentials.credit(&mut ro.adv);
+        }
     }
 }
 

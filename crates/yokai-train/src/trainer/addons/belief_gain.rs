@@ -20,8 +20,14 @@
 //! the seat acts at, the only ones the belief loss trains the colour layer on; a share read
 //! at a waiting state would add, at every turn, however the layer reads untrained states.
 //! With `"centred"` each of those payments is less the rollout's mean over the handovers at
-//! the same step of a game, so that the turns a game lasts are not paid in themselves.
-//! Its column is the rollout's potentials; it adds to the reward only, no loss term.
+//! the same step of a game, so that the turns a game lasts are not paid in themselves. With
+//! `"turn"` the centred payments go to the advantages of the turn that earned them (the
+//! choices of the seat whose turn the handover ends, but the turn's first), not to the
+//! reward: no value learns them and no earlier step carries them, so the END decision is
+//! left to the game's reward; centred in the reward, each state's expected payment for
+//! going on is not zero, and the seats learnt to END early to escape it.
+//! Its column is the rollout's potentials; it adds to the reward (or, `"turn"`, the
+//! advantages), no loss term.
 //! On `cpu` at 40M steps neither potential form moved self-play
 //! (docs/results/cpu-belief-gain.md): with a critic that keeps up, what lasts of a
 //! potential-based payment is its end term. The waiting form did not either at weight 0.5,
@@ -29,7 +35,7 @@
 
 use crate::actor::Actor;
 use crate::config::{GainBaseline, GainSeats, PpoConfig};
-use yokai_engine::{Card, Seat};
+use yokai_engine::{Card, Seat, Substep};
 
 #[derive(Clone, Debug)]
 pub(in crate::trainer) struct BeliefGain {
@@ -53,8 +59,13 @@ pub(in crate::trainer) struct Potentials {
     games: usize,
     phi: Vec<f32>,
     acting: Vec<u8>,
-    /// Per step and game, the steps its game had taken at the state before that step.
+    /// Per step and game, the steps its game had taken at the state before that step, and
+    /// whether that state is a turn's first (its seat may END there).
     steps: Vec<u16>,
+    turn_first: Vec<bool>,
+    /// Per step and game (`[T × games]`), the weighted payment [`Potentials::pay`] worked
+    /// out (0 where none).
+    payments: Vec<f32>,
     /// [`GainSeats::Waiting`]: [`BeliefGain`]'s held shares, at the rollout's start and
     /// then, once paid, at its end.
     held: Vec<Option<f32>>,
@@ -93,6 +104,8 @@ impl BeliefGain {
             phi: vec![0.0; (t_len + 1) * actor.rows()],
             acting: vec![0; (t_len + 1) * games],
             steps: vec![0; (t_len + 1) * games],
+            turn_first: vec![false; (t_len + 1) * games],
+            payments: Vec::new(),
             held: {
                 let mut held = self.held.clone();
                 held.resize(actor.rows(), None);
@@ -152,11 +165,10 @@ impl Potentials {
         }
         let acting = actor.env().acting_seats();
         self.acting[t * self.games..][..self.games].copy_from_slice(acting);
-        for (i, steps) in self.steps[t * self.games..][..self.games]
-            .iter_mut()
-            .enumerate()
-        {
-            *steps = actor.game(i).steps().min(u16::MAX as usize) as u16;
+        for i in 0..self.games {
+            let game = actor.game(i);
+            self.steps[t * self.games + i] = game.steps().min(u16::MAX as usize) as u16;
+            self.turn_first[t * self.games + i] = game.substep() == Substep::FirstObserve;
         }
     }
 
@@ -185,8 +197,9 @@ impl Potentials {
     /// state is a new game's. A step's gain is the change of its game's potential, or with
     /// [`GainSeats::Waiting`] what the seat it hands the turn to came to know since it last
     /// acted, or with [`GainSeats::Centred`] that less the rollout's mean over the
-    /// handovers at the same step of a game. Returns the gain before the weight and before centring, summed over steps
-    /// and games (nats).
+    /// handovers at the same step of a game. With [`GainSeats::Turn`] (the centred gains)
+    /// nothing is added here: [`Potentials::credit`] adds them to the advantages. Returns
+    /// the gain before the weight and before centring, summed over steps and games (nats).
     pub fn pay(&mut self, rewards: &mut [f32], dones: &[f32]) -> f64 {
         let t_len = self.acting.len() / self.games - 1;
         let rows = self.phi.len() / (t_len + 1);
@@ -208,7 +221,7 @@ impl Potentials {
                             .map(|s| self.phi[row(t + 1, s)] - self.phi[row(t, s)])
                             .sum(),
                     ),
-                    GainSeats::Waiting | GainSeats::Centred => {
+                    GainSeats::Waiting | GainSeats::Centred | GainSeats::Turn => {
                         let next = self.acting[(t + 1) * self.games + i] as usize;
                         self.held[i * p + next]
                             .filter(|_| next != acting)
@@ -221,7 +234,7 @@ impl Potentials {
         // Centred: per step of a game at the turn's first state, the handovers' mean gain.
         let step_after = |k: usize| self.steps[k + self.games] as usize;
         let mut means = Vec::<(f64, u32)>::new();
-        if self.seats == GainSeats::Centred {
+        if matches!(self.seats, GainSeats::Centred | GainSeats::Turn) {
             for (k, gain) in gains.iter().enumerate() {
                 if let Some(gain) = gain {
                     if means.len() <= step_after(k) {
@@ -232,18 +245,47 @@ impl Potentials {
                 }
             }
         }
-        for (k, gain) in gains.iter().enumerate() {
-            if let Some(gain) = gain {
-                let mean = means
-                    .get(step_after(k))
-                    .map_or(0.0, |&(sum, n)| sum / n as f64);
+        self.payments = (gains.iter().enumerate())
+            .map(|(k, gain)| {
+                let mean = (means.get(step_after(k))).map_or(0.0, |&(sum, n)| sum / n as f64);
+                gain.map_or(0.0, |g| self.weight * (g - mean as f32))
+            })
+            .collect();
+        if self.seats != GainSeats::Turn {
+            for (k, payment) in self.payments.iter().enumerate() {
                 let (t, i) = (k / self.games, k % self.games);
                 rewards[t * rows + i * p..][..p]
                     .iter_mut()
-                    .for_each(|r| *r += self.weight * (gain - mean as f32));
+                    .for_each(|r| *r += payment);
             }
         }
         paid
+    }
+
+    /// Advantages (`[T × rows]`, after [`Potentials::pay`]): with [`GainSeats::Turn`], adds
+    /// each handover's weighted, centred gain to the advantages of the steps of the turn it
+    /// ends, on the row of the seat that chose there, within the rollout and but the turn's
+    /// first (where END is chosen). Other forms add nothing.
+    pub fn credit(&self, adv: &mut [f32]) {
+        if self.seats != GainSeats::Turn {
+            return;
+        }
+        let t_len = self.acting.len() / self.games - 1;
+        let p = adv.len() / (t_len * self.games);
+        for (k, &payment) in self.payments.iter().enumerate() {
+            let (t, i) = (k / self.games, k % self.games);
+            let acting = self.acting[k];
+            if payment == 0.0 {
+                continue;
+            }
+            for u in (0..=t).rev() {
+                let here = u * self.games + i;
+                if self.acting[here] != acting || self.turn_first[here] {
+                    break;
+                }
+                adv[u * self.games * p + i * p + acting as usize] += payment;
+            }
+        }
     }
 }
 
@@ -274,6 +316,8 @@ mod tests {
             phi: phi.to_vec(),
             acting: acting.to_vec(),
             steps: (0..acting.len()).map(|k| (k / games) as u16).collect(),
+            turn_first: vec![false; acting.len()],
+            payments: Vec::new(),
             held: if gain.held.is_empty() {
                 vec![None; 2 * games]
             } else {
@@ -377,6 +421,53 @@ mod tests {
             -0.5, -0.5, 0.5, 0.5,
         ];
         assert_eq!(pay(GainSeats::Centred), (centred.to_vec(), 12.0));
+    }
+
+    /// The turn form credits each handover's centred gain to the advantages of the turn
+    /// that earned it, on the chooser's row, but the turn's first step; the reward is left
+    /// alone. Two games: seat 0's turn (steps 0–2) tells seat 1 3 nats in game 0 and 1 in
+    /// game 1 (mean 2), seat 1's turn (steps 3–4) tells seat 0 2 nats in both (mean 2).
+    #[test]
+    fn the_turn_form_credits_the_turn_that_told_in_its_advantages() {
+        #[rustfmt::skip]
+        let phi = [
+            -9.0, -8.0, -9.0, -8.0,
+            -9.0, -8.0, -9.0, -8.0,
+            -9.0, -8.0, -9.0, -8.0,
+            -9.0, -5.0, -9.0, -7.0,
+            -9.0, -5.0, -9.0, -7.0,
+            -7.0, -5.0, -7.0, -7.0,
+        ];
+        let acting = [0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 0, 0];
+        let run = |seats| {
+            let mut gain = unit(seats);
+            gain.held = vec![Some(-9.0), Some(-8.0), Some(-9.0), Some(-8.0)];
+            let mut tally = potentials(&gain, 2, &phi, &acting);
+            for t in [0, 3, 5] {
+                tally.turn_first[t * 2..][..2].fill(true);
+            }
+            let mut rewards = vec![0.0; 20];
+            let paid = tally.pay(&mut rewards, &[0.0; 20]);
+            let mut adv = vec![0.0; 20];
+            tally.credit(&mut adv);
+            (rewards, adv, paid)
+        };
+        let (rewards, adv, paid) = run(GainSeats::Turn);
+        assert_eq!(paid, 8.0);
+        assert_eq!(rewards, [0.0; 20]);
+        #[rustfmt::skip]
+        let credited = [
+            0.0, 0.0, 0.0, 0.0,
+            0.5, 0.0, -0.5, 0.0,
+            0.5, 0.0, -0.5, 0.0,
+            0.0, 0.0, 0.0, 0.0,
+            0.0, 0.0, 0.0, 0.0,
+        ];
+        assert_eq!(adv, credited);
+        let (rewards, adv, paid) = run(GainSeats::Centred);
+        assert_eq!(paid, 8.0);
+        assert_eq!(&rewards[8..12], [0.5, 0.5, -0.5, -0.5]);
+        assert_eq!(adv, [0.0; 20]);
     }
 
     /// A fresh Other-Play trainer of 3 games (6 rows), each seat naming colours its own way.
