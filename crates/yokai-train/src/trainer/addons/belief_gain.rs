@@ -59,9 +59,10 @@ pub(in crate::trainer) struct Potentials {
     games: usize,
     phi: Vec<f32>,
     acting: Vec<u8>,
-    /// Per step and game, the steps its game had taken at the state before that step, and
-    /// whether that state is a turn's first (its seat may END there).
+    /// Per step and game, the steps its game had taken at the state before that step.
     steps: Vec<u16>,
+    /// Per step and game, whether the state before that step is a turn's first (its seat
+    /// may END there): [`GainSeats::Turn`] credits no such step.
     turn_first: Vec<bool>,
     /// Per step and game (`[T × games]`), the weighted payment [`Potentials::pay`] worked
     /// out (0 where none).
@@ -188,8 +189,14 @@ impl Potentials {
     /// Row `r`'s share recorded at step `t`.
     #[cfg(test)]
     pub fn share_at(&self, t: usize, r: usize) -> f32 {
-        let rows = self.phi.len() / (self.acting.len() / self.games);
+        let rows = self.phi.len() / (self.rollout_steps() + 1);
         self.phi[t * rows + r]
+    }
+
+    /// The rollout's steps T: every column holds the states before each step and the one
+    /// after the last, T + 1 per game.
+    fn rollout_steps(&self) -> usize {
+        self.acting.len() / self.games - 1
     }
 
     /// Value targets: adds each step's weighted gain to both rows of its game in `rewards`
@@ -201,7 +208,7 @@ impl Potentials {
     /// nothing is added here: [`Potentials::credit`] adds them to the advantages. Returns
     /// the gain before the weight and before centring, summed over steps and games (nats).
     pub fn pay(&mut self, rewards: &mut [f32], dones: &[f32]) -> f64 {
-        let t_len = self.acting.len() / self.games - 1;
+        let t_len = self.rollout_steps();
         let rows = self.phi.len() / (t_len + 1);
         let p = rows / self.games;
         // Per step and game, the gain its step pays (`None`: nothing to pay).
@@ -270,14 +277,12 @@ impl Potentials {
         if self.seats != GainSeats::Turn {
             return;
         }
-        let t_len = self.acting.len() / self.games - 1;
-        let p = adv.len() / (t_len * self.games);
+        let p = adv.len() / (self.rollout_steps() * self.games);
         for (k, &payment) in self.payments.iter().enumerate() {
-            let (t, i) = (k / self.games, k % self.games);
-            let acting = self.acting[k];
             if payment == 0.0 {
                 continue;
             }
+            let (t, i, acting) = (k / self.games, k % self.games, self.acting[k]);
             for u in (0..=t).rev() {
                 let here = u * self.games + i;
                 if self.acting[here] != acting || self.turn_first[here] {
